@@ -1,0 +1,35 @@
+#!/usr/bin/env bash
+# Installs every Debian package soupuv needs to build, test and run. Idempotent:
+# packages already present are skipped, so a second run costs one dpkg query.
+set -euo pipefail
+
+packages=(
+  build-essential cmake ninja-build ccache pkg-config git
+  libcpp-httplib-dev nlohmann-json3-dev libtinygltf-dev libstb-dev libdraco-dev
+  libeigen3-dev libcgal-dev libgmp-dev libmpfr-dev libboost-dev
+  libspdlog-dev libfmt-dev libgtest-dev libgmock-dev libsqlite3-dev libssl-dev
+  clang libclang-rt-14-dev libomp-dev
+  chromium nginx-light curl python3-yaml
+)
+
+SUDO=""
+[ "$(id -u)" -eq 0 ] || SUDO="sudo"
+missing=()
+for p in "${packages[@]}"; do
+  dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
+done
+
+if ((${#missing[@]})); then
+  echo "installing: ${missing[*]}"
+  export DEBIAN_FRONTEND=noninteractive
+  $SUDO apt-get update -qq
+  $SUDO apt-get install -y -qq --no-install-recommends "${missing[@]}"
+else
+  echo "all Debian packages present"
+fi
+
+# Node.js and npm come with the machine image (npm bundled with nodejs, which
+# conflicts with Debian's separate npm package); install Debian's only if absent.
+if ! command -v npm >/dev/null 2>&1; then
+  ${SUDO:-} apt-get install -y -qq --no-install-recommends nodejs npm
+fi

@@ -1,0 +1,33 @@
+#!/usr/bin/env bash
+# Installs, builds and runs every test: the README's test command, and what
+# .ci/run calls. Two build trees: release (every suite, benchmarks in --quick
+# mode) and asan (AddressSanitizer + UBSan over the suites facing untrusted input).
+set -euo pipefail
+cd "$(dirname "$0")/.."
+root=$(pwd)
+jobs=${SOUPUV_JOBS:-$(nproc)}
+
+bash scripts/install-deps.sh
+if [ -f package-lock.json ]; then
+  npm ci --no-audit --no-fund --loglevel=error
+fi
+
+echo "== release build"
+cmake -S . -B build/release -G Ninja -DCMAKE_BUILD_TYPE=Release >/dev/null
+cmake --build build/release -j "$jobs"
+echo "== release tests"
+ctest --test-dir build/release --output-on-failure -j "$jobs" --timeout 900
+
+echo "== sanitizer build (ASan + UBSan)"
+cmake -S . -B build/asan -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DSOUPUV_SANITIZE=ON \
+      -DSOUPUV_BUILD_SERVER=OFF >/dev/null
+cmake --build build/asan -j "$jobs"
+echo "== sanitizer tests"
+ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 UBSAN_OPTIONS=print_stacktrace=1 \
+  ctest --test-dir build/asan --output-on-failure -j "$jobs" --timeout 900 -L 'sanitize'
+
+if [ -x scripts/fuzz.sh ]; then
+  echo "== fuzzing (bounded)"
+  bash scripts/fuzz.sh
+fi
+echo "== all tests passed"
