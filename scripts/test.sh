@@ -5,6 +5,8 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 root=$(pwd)
+# ccache hits across clones at other paths (CI builds a fresh clone).
+export CCACHE_BASEDIR="$root"
 jobs=${SOUPUV_JOBS:-$(nproc)}
 
 bash scripts/install-deps.sh
