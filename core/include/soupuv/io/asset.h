@@ -2,8 +2,10 @@
 // triangle back in its original node/mesh/primitive/material structure.
 #pragma once
 
+#include <array>
 #include <cstddef>
 #include <string>
+#include <vector>
 
 #include <nlohmann/json.hpp>
 
@@ -21,6 +23,14 @@ struct Asset {
   nlohmann::json document;
   size_t dropped_degenerate = 0;  // zero-area triangles removed while loading
   size_t skipped_primitives = 0;  // points/lines primitives skipped (with a warning)
+  // For the writer's bit-exact round trip (requested by io-write): the float32
+  // value of soup vertex v in its primitive's own frame, exactly as read from
+  // the accessor (dequantized, before any node transform); parallel to
+  // soup.positions. The writer needs each soup vertex to be used by triangles
+  // of one (node, mesh) instance only (instanced meshes: one copy per node).
+  // Empty when the loader did not record them: the writer then derives local
+  // positions from world ones (not bit-exact under non-identity transforms).
+  std::vector<std::array<float, 3>> local_positions;
 };
 
 }  // namespace soupuv::io
