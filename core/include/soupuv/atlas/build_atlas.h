@@ -1,0 +1,89 @@
+// build_atlas: a UV atlas for a closed 2-manifold triangle mesh (the proxy),
+// paper §6.
+//
+// Inputs:  closed_mesh  closed, consistently oriented 2-manifold of any genus,
+//                       possibly several components (the proxy).
+//          options      texture size and padding, distortion budget, seam hints.
+// Output:  AtlasResult  per-face corner UVs in [0,1]^2 (glTF convention), the
+//                       chart of every face, and the atlas' diagnostics.
+//
+// Steps: seam hints -> forced seam edges (Dijkstra, §6 cost); segmentation
+// into charts by normal-cone region growing (Lloyd iterations of variational
+// shape approximation, charts added until every chart fits the normal budget;
+// forced seams are never crossed); each chart is made a topological disk;
+// LSCM then ARAP local/global per chart; a chart that flips, overlaps itself or
+// exceeds the stretch budget is split in two and redone; charts are scaled to
+// one texel density, rotated to their minimal-area rectangle and packed by
+// horizon (Tetris) packing into [0,1]^2 with padding.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "soupuv/atlas/atlas.h"
+#include "soupuv/mesh.h"
+#include "soupuv/progress.h"
+#include "soupuv/vec.h"
+
+namespace soupuv::atlas {
+
+// A user-drawn seam: consecutive points are joined along mesh edges (each
+// point snaps to its nearest mesh vertex).
+struct SeamHint {
+  std::vector<Vec3> points;
+};
+
+struct AtlasOptions {
+  int texture_size = 2048;   // texels along one side of the square texture
+  double padding_px = 4;     // minimum gap between charts, in texels
+  // Distortion budget: a chart whose area-weighted L2 stretch (Sander 2001,
+  // chart scaled to its 3D area) exceeds this after ARAP is split.
+  double max_stretch = 1.05;
+  // Segmentation budget: largest angle between a face normal and its chart's
+  // mean normal (degrees). Smaller gives more, flatter charts.
+  double max_normal_deviation_deg = 40.0;
+  std::vector<SeamHint> seam_hints;
+  // Seam hint cost weights (§6), dimensionless: the alpha (curvature) term is
+  // scaled by the mean edge length so it competes with edge lengths, and the
+  // beta (curvature change) term uses Laplacian magnitudes divided by their
+  // maximum, also times the mean edge length.
+  double alpha = 1.0;
+  double beta = 1.0;
+  int arap_iterations = 10;
+  int threads = 0;           // OpenMP threads; 0 = OpenMP's default
+};
+
+struct AtlasDiagnostics {
+  int charts = 0;
+  int faces = 0;
+  double stretch_l2 = 0;     // area-weighted L2 stretch, 1 = isometric up to one scale
+  double stretch_linf = 0;   // max singular value of the UV->3D map, same normalisation
+  double angle_distortion_deg = 0;  // mean |UV angle - 3D angle| over corners
+  int flipped = 0;           // faces with non-positive UV area
+  double overlap = 0;        // texels covered twice / texels covered (raster at texture_size)
+  double utilization = 0;    // UV area of all faces / area of [0,1]^2
+  int splits = 0;            // charts split for topology, flips, overlap or stretch
+  int seam_edges = 0;        // mesh edges forced to be seams by the hints
+  double seconds = 0;
+  double seconds_segment = 0, seconds_parameterize = 0, seconds_pack = 0;
+  std::vector<std::string> warnings;
+};
+
+struct AtlasResult {
+  Atlas atlas;
+  AtlasDiagnostics stats;
+  // Mesh edges (vertex pairs, smaller index first) the seam hints forced.
+  std::vector<std::array<int, 2>> forced_seams;
+  nlohmann::json diagnostics() const;
+};
+
+// Throws Error{invalid_input} for a mesh that is not a closed 2-manifold (an
+// edge not shared by exactly two faces of opposite orientation), bad indices
+// or non-finite coordinates; Error{no_triangles} for an empty mesh;
+// Error{canceled} through progress.
+AtlasResult build_atlas(const TriMesh& closed_mesh, const AtlasOptions& options,
+                        Progress& progress);
+
+}  // namespace soupuv::atlas
