@@ -1,0 +1,58 @@
+// How good a soup's texture mapping is: the figures the targets name.
+//
+// Input : a soup, one UV per triangle corner (glTF convention, [0,1]^2 wanted),
+//         and the adjacency that says which soup triangles were neighbours
+//         before the soup was split (from a welded original with the same
+//         triangle order, or by welding the soup within a tolerance).
+// Output: coverage, flipped fraction, area-weighted L2 stretch (Sander et al.
+//         2001), continuity (noise-aware and plain 1-texel) and UV islands.
+#pragma once
+
+#include <array>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "soupuv/quality/weld.h"
+#include "soupuv/soup.h"
+
+namespace soupuv::quality {
+
+using CornerUvs = std::vector<std::array<Vec2, 3>>;  // one entry per soup triangle
+
+struct UvMetricsOptions {
+  // Texel size for the continuity threshold: 1 / texture_size.
+  int texture_size = 1024;
+  // UV units per unit of 3D length (the atlas's global texel scale). 0: derive
+  // it from the map itself, sqrt(total UV area / total 3D area).
+  double uv_per_length = 0;
+};
+
+struct UvMetrics {
+  size_t triangles = 0;
+  double coverage = 0;          // corners with finite UVs in [0,1]^2
+  size_t flipped = 0;           // UV orientation against the dominant one, or collapsed
+  double flipped_fraction = 0;
+  double stretch_l2 = 0;        // area-weighted, normalised so 1 = isometric up to scale
+  double stretch_linf = 0;      // largest per-triangle singular-value ratio to the scale
+  size_t adjacent_pairs = 0;
+  double continuity = 0;        // pairs within 1 texel + 2 x (copies' 3D distance) in UV
+  double continuity_1texel = 0; // pairs within 1 texel
+  size_t islands = 0;           // components of triangles joined by continuous edges
+  double uv_per_length = 0;     // the scale used
+};
+
+UvMetrics uv_metrics(const Soup& soup, const CornerUvs& uvs,
+                     const std::vector<AdjacentPair>& adjacency,
+                     const UvMetricsOptions& options = {});
+
+// The adjacency for metrics: exact from `original` (a welded mesh with the
+// same triangle order as `soup`), else by welding the soup within
+// `weld_tolerance` (absolute).
+std::vector<AdjacentPair> metric_adjacency(const Soup& soup, const Soup* original,
+                                           double weld_tolerance);
+
+// Diagnostics fields: coverage, flipped_fraction, stretch_l2, continuity, ...
+nlohmann::json to_json(const UvMetrics& m);
+
+}  // namespace soupuv::quality

@@ -1,0 +1,40 @@
+// Welding soup corners by position, and the edge adjacency that welding
+// reveals: the near-neighbour graph that continuity metrics and the choice of
+// traced sides (transfer/orient) both need.
+//
+// Input : a soup, a weld tolerance (absolute length; 0 = exact equality).
+// Output: a vertex id per soup corner (triangle*3 + k) such that corners within
+//         the tolerance of each other (transitively) share an id, and the list
+//         of triangle pairs sharing an edge of welded vertices.
+// Cost  : O(n) expected with a uniform hash grid of cell size = tolerance.
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <vector>
+
+#include "soupuv/soup.h"
+
+namespace soupuv::quality {
+
+// Corner id per soup corner (size 3 * triangles); ids are 0 .. count-1.
+struct Weld {
+  std::vector<uint32_t> corner_vertex;
+  uint32_t vertex_count = 0;
+};
+
+Weld weld_corners(const Soup& soup, double tolerance);
+
+// Two triangles that share an edge: corner a_corner[i] of triangle a and
+// corner b_corner[i] of triangle b are the same welded vertex (i = 0, 1).
+struct AdjacentPair {
+  uint32_t a = 0, b = 0;
+  std::array<uint8_t, 2> a_corner{}, b_corner{};
+};
+
+// Edge adjacency of the welded soup. An edge used by more than two triangles
+// (non-manifold) pairs every two of them. Degenerate triangles (two corners
+// welded together) contribute no edges.
+std::vector<AdjacentPair> edge_adjacency(const Weld& weld, size_t triangle_count);
+
+}  // namespace soupuv::quality

@@ -1,0 +1,152 @@
+#include "soupuv/quality/uv_metrics.h"
+
+#include <algorithm>
+#include <cmath>
+#include <numeric>
+
+#include "soupuv/errors.h"
+
+namespace soupuv::quality {
+
+namespace {
+
+double signed_uv_area(const std::array<Vec2, 3>& t) {
+  return 0.5 * cross(t[1] - t[0], t[2] - t[0]);
+}
+
+bool usable(Vec2 p) {
+  return std::isfinite(p.x) && std::isfinite(p.y) && p.x >= 0 && p.x <= 1 && p.y >= 0 && p.y <= 1;
+}
+
+// Singular values (largest, smallest) of the map from the triangle's UV
+// domain onto its 3D triangle: Sander et al.'s Gamma and gamma.
+bool stretch_singular_values(Vec3 p0, Vec3 p1, Vec3 p2, const std::array<Vec2, 3>& uv,
+                             double& big, double& small) {
+  double area2 = cross(uv[1] - uv[0], uv[2] - uv[0]);  // 2 * signed UV area
+  if (!(std::abs(area2) > 0)) return false;
+  double s1 = uv[0].x, s2 = uv[1].x, s3 = uv[2].x;
+  double t1 = uv[0].y, t2 = uv[1].y, t3 = uv[2].y;
+  Vec3 ss = (p0 * (t2 - t3) + p1 * (t3 - t1) + p2 * (t1 - t2)) / area2;
+  Vec3 tt = (p0 * (s3 - s2) + p1 * (s1 - s3) + p2 * (s2 - s1)) / area2;
+  double a = dot(ss, ss), b = dot(ss, tt), c = dot(tt, tt);
+  double root = std::sqrt(std::max(0.0, (a - c) * (a - c) + 4 * b * b));
+  big = std::sqrt(std::max(0.0, 0.5 * (a + c + root)));
+  small = std::sqrt(std::max(0.0, 0.5 * (a + c - root)));
+  return std::isfinite(big) && std::isfinite(small);
+}
+
+struct UnionFind {
+  std::vector<uint32_t> parent;
+  explicit UnionFind(size_t n) : parent(n) { std::iota(parent.begin(), parent.end(), 0u); }
+  uint32_t find(uint32_t x) {
+    while (parent[x] != x) x = parent[x] = parent[parent[x]];
+    return x;
+  }
+  void unite(uint32_t a, uint32_t b) { parent[find(a)] = find(b); }
+};
+
+}  // namespace
+
+UvMetrics uv_metrics(const Soup& soup, const CornerUvs& uvs,
+                     const std::vector<AdjacentPair>& adjacency, const UvMetricsOptions& options) {
+  if (uvs.size() != soup.triangles.size())
+    throw Error(ErrorCode::internal, "uv_metrics: one UV triple per triangle expected");
+  UvMetrics m;
+  const size_t n = soup.triangles.size();
+  m.triangles = n;
+  if (n == 0) return m;
+
+  size_t covered = 0;
+  double area3 = 0, area_uv = 0, oriented = 0;
+  std::vector<double> a3(n), auv(n);
+  for (size_t t = 0; t < n; ++t) {
+    for (int k = 0; k < 3; ++k) covered += usable(uvs[t][k]);
+    a3[t] = triangle_area(soup, t);
+    auv[t] = signed_uv_area(uvs[t]);
+    if (!std::isfinite(auv[t])) auv[t] = 0;
+    area3 += a3[t];
+    area_uv += std::abs(auv[t]);
+    oriented += auv[t];
+  }
+  m.coverage = double(covered) / double(3 * n);
+
+  // Flipped: against the dominant (area-weighted) UV orientation, which is
+  // the one a continuous map gives the input's winding; or collapsed to
+  // (almost) nothing while the 3D triangle is not.
+  const double sign = oriented >= 0 ? 1.0 : -1.0;
+  const double mean_ratio = area3 > 0 ? area_uv / area3 : 0;
+  for (size_t t = 0; t < n; ++t) {
+    bool collapsed = std::abs(auv[t]) <= 1e-6 * mean_ratio * a3[t];
+    if (a3[t] > 0 && (sign * auv[t] < 0 || collapsed)) ++m.flipped;
+  }
+  m.flipped_fraction = double(m.flipped) / double(n);
+
+  m.uv_per_length = options.uv_per_length > 0 ? options.uv_per_length
+                                              : (area3 > 0 ? std::sqrt(area_uv / area3) : 0);
+  // L2 stretch, normalised by the global scale (Sander et al.: multiply by
+  // sqrt(sum A_uv / sum A_3d)) so that any uniformly scaled isometry gives 1.
+  double sum_l2 = 0, weight = 0, linf = 0;
+  const double scale = area3 > 0 ? std::sqrt(area_uv / area3) : 0;
+  for (size_t t = 0; t < n; ++t) {
+    if (!(a3[t] > 0)) continue;
+    double big, small;
+    if (!stretch_singular_values(soup.corner(t, 0), soup.corner(t, 1), soup.corner(t, 2), uvs[t],
+                                 big, small))
+      continue;  // collapsed: already counted as flipped
+    sum_l2 += a3[t] * 0.5 * (big * big + small * small);
+    weight += a3[t];
+    linf = std::max(linf, big * scale);
+  }
+  m.stretch_l2 = weight > 0 ? std::sqrt(sum_l2 / weight) * scale : 0;
+  m.stretch_linf = linf;
+
+  // Continuity over originally adjacent pairs, and islands of triangles
+  // joined by continuous edges.
+  const double texel = 1.0 / options.texture_size;
+  UnionFind uf(n);
+  size_t ok = 0, ok_plain = 0;
+  for (const AdjacentPair& p : adjacency) {
+    bool cont = true, plain = true;
+    for (int i = 0; i < 2; ++i) {
+      Vec2 ua = uvs[p.a][p.a_corner[i]], ub = uvs[p.b][p.b_corner[i]];
+      double d_uv = norm(ua - ub);
+      double d_3d = norm(soup.corner(p.a, p.a_corner[i]) - soup.corner(p.b, p.b_corner[i]));
+      if (!(d_uv <= texel + 2 * d_3d * m.uv_per_length)) cont = false;
+      if (!(d_uv <= texel)) plain = false;
+    }
+    ok += cont;
+    ok_plain += plain;
+    if (cont) uf.unite(p.a, p.b);
+  }
+  m.adjacent_pairs = adjacency.size();
+  m.continuity = adjacency.empty() ? 1.0 : double(ok) / double(adjacency.size());
+  m.continuity_1texel = adjacency.empty() ? 1.0 : double(ok_plain) / double(adjacency.size());
+  for (size_t t = 0; t < n; ++t) m.islands += uf.find(uint32_t(t)) == t;
+  return m;
+}
+
+std::vector<AdjacentPair> metric_adjacency(const Soup& soup, const Soup* original,
+                                           double weld_tolerance) {
+  if (original) {
+    if (original->triangles.size() != soup.triangles.size())
+      throw Error(ErrorCode::invalid_input,
+                  "the original mesh for continuity has a different triangle count");
+    return edge_adjacency(weld_corners(*original, 0.0), original->triangles.size());
+  }
+  return edge_adjacency(weld_corners(soup, weld_tolerance), soup.triangles.size());
+}
+
+nlohmann::json to_json(const UvMetrics& m) {
+  return {{"coverage", m.coverage},
+          {"flipped", m.flipped},
+          {"flipped_fraction", m.flipped_fraction},
+          {"stretch_l2", m.stretch_l2},
+          {"stretch_linf", m.stretch_linf},
+          {"adjacent_pairs", m.adjacent_pairs},
+          {"continuity", m.continuity},
+          {"continuity_1texel", m.continuity_1texel},
+          {"islands", m.islands},
+          {"uv_per_length", m.uv_per_length}};
+}
+
+}  // namespace soupuv::quality

@@ -1,0 +1,126 @@
+#include "soupuv/quality/weld.h"
+
+#include <algorithm>
+#include <cmath>
+#include <numeric>
+#include <unordered_map>
+
+namespace soupuv::quality {
+
+namespace {
+
+struct UnionFind {
+  std::vector<uint32_t> parent;
+  explicit UnionFind(size_t n) : parent(n) { std::iota(parent.begin(), parent.end(), 0u); }
+  uint32_t find(uint32_t x) {
+    while (parent[x] != x) x = parent[x] = parent[parent[x]];
+    return x;
+  }
+  void unite(uint32_t a, uint32_t b) {
+    a = find(a);
+    b = find(b);
+    if (a != b) parent[std::max(a, b)] = std::min(a, b);
+  }
+};
+
+uint64_t cell_key(int64_t x, int64_t y, int64_t z) {
+  // 21 bits per axis is plenty: cells are never finer than the tolerance and
+  // coordinates are offset by the box minimum.
+  return (uint64_t(x) & 0x1fffff) | ((uint64_t(y) & 0x1fffff) << 21) |
+         ((uint64_t(z) & 0x1fffff) << 42);
+}
+
+}  // namespace
+
+Weld weld_corners(const Soup& soup, double tolerance) {
+  const size_t corners = soup.triangles.size() * 3;
+  Weld w;
+  if (corners == 0) return w;
+  UnionFind uf(corners);
+  auto pos = [&](size_t c) { return soup.positions[soup.triangles[c / 3][c % 3]]; };
+
+  Box3 box = bounding_box(soup);
+  // A tolerance far below the coordinates' resolution means "exact": bucket by
+  // bits then, so a 0 tolerance does not make an infinitely fine grid.
+  double cell = tolerance;
+  double floor_cell = box.diagonal() * 1e-9;
+  bool exact = !(cell > floor_cell);
+  if (exact) cell = std::max(floor_cell, 1e-300);
+  // Limit the grid to 2^21 cells per axis; a coarser cell only costs more
+  // distance tests, never a wrong answer.
+  double span = std::max({box.extent().x, box.extent().y, box.extent().z, 0.0});
+  cell = std::max(cell, span / double(1 << 20));
+
+  std::unordered_map<uint64_t, std::vector<uint32_t>> grid;
+  grid.reserve(corners);
+  auto coord = [&](double v, double lo) { return int64_t(std::floor((v - lo) / cell)); };
+  for (size_t c = 0; c < corners; ++c) {
+    Vec3 p = pos(c);
+    grid[cell_key(coord(p.x, box.lo.x), coord(p.y, box.lo.y), coord(p.z, box.lo.z))].push_back(
+        uint32_t(c));
+  }
+  const double tol2 = tolerance * tolerance;
+  for (size_t c = 0; c < corners; ++c) {
+    Vec3 p = pos(c);
+    int64_t cx = coord(p.x, box.lo.x), cy = coord(p.y, box.lo.y), cz = coord(p.z, box.lo.z);
+    for (int64_t dx = -1; dx <= 1; ++dx)
+      for (int64_t dy = -1; dy <= 1; ++dy)
+        for (int64_t dz = -1; dz <= 1; ++dz) {
+          if (cx + dx < 0 || cy + dy < 0 || cz + dz < 0) continue;
+          auto it = grid.find(cell_key(cx + dx, cy + dy, cz + dz));
+          if (it == grid.end()) continue;
+          for (uint32_t o : it->second) {
+            if (o <= c) continue;
+            Vec3 q = pos(o);
+            bool same = exact ? (p.x == q.x && p.y == q.y && p.z == q.z) : norm2(p - q) <= tol2;
+            if (same) uf.unite(uint32_t(c), o);
+          }
+        }
+  }
+
+  w.corner_vertex.resize(corners);
+  std::vector<uint32_t> id(corners, UINT32_MAX);
+  for (size_t c = 0; c < corners; ++c) {
+    uint32_t r = uf.find(uint32_t(c));
+    if (id[r] == UINT32_MAX) id[r] = w.vertex_count++;
+    w.corner_vertex[c] = id[r];
+  }
+  return w;
+}
+
+std::vector<AdjacentPair> edge_adjacency(const Weld& weld, size_t triangle_count) {
+  struct EdgeUse {
+    uint64_t key;
+    uint32_t tri;
+    uint8_t c0, c1;  // corners holding the smaller and the larger vertex id
+  };
+  std::vector<EdgeUse> uses;
+  uses.reserve(triangle_count * 3);
+  for (size_t t = 0; t < triangle_count; ++t) {
+    for (int k = 0; k < 3; ++k) {
+      int k1 = (k + 1) % 3;
+      uint32_t va = weld.corner_vertex[t * 3 + k], vb = weld.corner_vertex[t * 3 + k1];
+      if (va == vb) continue;
+      uint8_t ca = uint8_t(k), cb = uint8_t(k1);
+      if (va > vb) { std::swap(va, vb); std::swap(ca, cb); }
+      uses.push_back({(uint64_t(va) << 32) | vb, uint32_t(t), ca, cb});
+    }
+  }
+  std::sort(uses.begin(), uses.end(), [](const EdgeUse& x, const EdgeUse& y) {
+    return x.key != y.key ? x.key < y.key : x.tri < y.tri;
+  });
+  std::vector<AdjacentPair> pairs;
+  for (size_t i = 0; i < uses.size();) {
+    size_t j = i;
+    while (j < uses.size() && uses[j].key == uses[i].key) ++j;
+    for (size_t a = i; a < j; ++a)
+      for (size_t b = a + 1; b < j; ++b) {
+        if (uses[a].tri == uses[b].tri) continue;
+        pairs.push_back({uses[a].tri, uses[b].tri, {uses[a].c0, uses[a].c1}, {uses[b].c0, uses[b].c1}});
+      }
+    i = j;
+  }
+  return pairs;
+}
+
+}  // namespace soupuv::quality

@@ -1,0 +1,144 @@
+#include <gtest/gtest.h>
+
+#include <random>
+
+#include "soupuv/quality/uv_metrics.h"
+#include "soupuv/quality/weld.h"
+#include "soupuv/shapes.h"
+
+using namespace soupuv;
+using namespace soupuv::quality;
+
+namespace {
+
+// An n x n grid of quads in the unit square (z = 0) as a soup with noise.
+Soup grid_soup(int n, double noise) {
+  TriMesh m;
+  for (int j = 0; j <= n; ++j)
+    for (int i = 0; i <= n; ++i) m.vertices.push_back({double(i) / n, double(j) / n, 0});
+  for (int j = 0; j < n; ++j)
+    for (int i = 0; i < n; ++i) {
+      int a = j * (n + 1) + i, b = a + 1, c = a + n + 2, d = a + n + 1;
+      m.faces.push_back({a, b, c});
+      m.faces.push_back({a, c, d});
+    }
+  return shapes::to_soup(m, noise, 3);
+}
+
+CornerUvs planar_uvs(const Soup& s, double scale) {
+  CornerUvs uv(s.triangles.size());
+  for (size_t t = 0; t < s.triangles.size(); ++t)
+    for (int k = 0; k < 3; ++k) {
+      Vec3 p = s.corner(t, k);
+      uv[t][k] = {0.05 + scale * p.x, 0.05 + scale * p.y};
+    }
+  return uv;
+}
+
+}  // namespace
+
+TEST(Weld, MatchesBruteForce) {
+  Soup s = grid_soup(12, 1e-3);
+  const double tol = 4e-3;
+  Weld w = weld_corners(s, tol);
+  // Slow twin: O(n^2) pairs within the tolerance, closed transitively.
+  size_t c = s.triangles.size() * 3;
+  std::vector<uint32_t> label(c);
+  for (size_t i = 0; i < c; ++i) label[i] = uint32_t(i);
+  bool changed = true;
+  while (changed) {
+    changed = false;
+    for (size_t i = 0; i < c; ++i)
+      for (size_t j = 0; j < c; ++j) {
+        if (norm(s.corner(i / 3, i % 3) - s.corner(j / 3, j % 3)) > tol) continue;
+        uint32_t l = std::min(label[i], label[j]);
+        if (label[i] != l || label[j] != l) { label[i] = label[j] = l; changed = true; }
+      }
+  }
+  for (size_t i = 0; i < c; ++i)
+    for (size_t j = i + 1; j < c; ++j)
+      EXPECT_EQ(label[i] == label[j], w.corner_vertex[i] == w.corner_vertex[j]) << i << " " << j;
+  EXPECT_EQ(w.vertex_count, 13u * 13u);
+}
+
+TEST(Weld, AdjacencyOfGridIsInteriorEdges) {
+  const int n = 6;
+  Soup s = grid_soup(n, 0);
+  auto pairs = edge_adjacency(weld_corners(s, 0.0), s.triangles.size());
+  // Interior edges of an n x n grid split into triangles: diagonals n^2 plus
+  // 2 n (n - 1) grid-line edges.
+  EXPECT_EQ(pairs.size(), size_t(n * n + 2 * n * (n - 1)));
+  for (const auto& p : pairs)
+    for (int i = 0; i < 2; ++i)
+      EXPECT_EQ(norm(s.corner(p.a, p.a_corner[i]) - s.corner(p.b, p.b_corner[i])), 0.0);
+}
+
+TEST(UvMetrics, PlanarMapIsPerfect) {
+  Soup s = grid_soup(10, 1e-3);
+  auto adj = metric_adjacency(s, nullptr, 5e-3);
+  UvMetrics m = uv_metrics(s, planar_uvs(s, 0.8), adj);
+  EXPECT_EQ(m.coverage, 1.0);
+  EXPECT_EQ(m.flipped, 0u);
+  // Not exactly 1: the noise tilts triangles out of the projection plane.
+  EXPECT_NEAR(m.stretch_l2, 1.0, 1e-4);
+  EXPECT_EQ(m.continuity, 1.0);
+  EXPECT_EQ(m.islands, 1u);
+  EXPECT_NEAR(m.uv_per_length, 0.8, 1e-3);
+  // The copies lie up to ~3.5e-3 apart (noise), i.e. > 1 texel at 1024 in UV:
+  // the plain 1-texel figure sees them as cuts, the noise-aware one does not.
+  EXPECT_LT(m.continuity_1texel, 0.5);
+}
+
+TEST(UvMetrics, AnisotropicScaleIsStretched) {
+  Soup s = grid_soup(4, 0);
+  CornerUvs uv = planar_uvs(s, 0.4);
+  for (auto& t : uv)
+    for (auto& p : t) p.y = 0.05 + 2 * (p.y - 0.05);  // 2:1 stretch
+  UvMetrics m = uv_metrics(s, uv, metric_adjacency(s, nullptr, 0));
+  // Singular values 1/0.4 and 1/0.8 with normalisation sqrt(2 * 0.16):
+  // sqrt((6.25 + 1.5625) / 2) * sqrt(0.32) = 1.118...
+  EXPECT_NEAR(m.stretch_l2, std::sqrt((6.25 + 1.5625) / 2) * std::sqrt(0.32), 1e-9);
+}
+
+TEST(UvMetrics, SeamsFlipsAndOutOfRangeAreCounted) {
+  Soup s = grid_soup(8, 0);
+  auto adj = metric_adjacency(s, nullptr, 0);
+  CornerUvs uv = planar_uvs(s, 0.8);
+  // Move the right half of the grid away in UV: one seam along x = 0.5.
+  for (size_t t = 0; t < s.triangles.size(); ++t) {
+    Vec3 c = (s.corner(t, 0) + s.corner(t, 1) + s.corner(t, 2)) / 3.0;
+    if (c.x > 0.5)
+      for (auto& p : uv[t]) p.y += 0.1;
+  }
+  std::swap(uv[0][1], uv[0][2]);  // one flipped triangle
+  for (auto& p : uv[5]) p.x += 1.0;  // one triangle outside [0,1]^2
+  UvMetrics m = uv_metrics(s, uv, adj);
+  EXPECT_EQ(m.flipped, 1u);
+  EXPECT_NEAR(m.coverage, 1.0 - 3.0 / (3 * s.triangles.size()), 1e-12);
+  EXPECT_LT(m.continuity, 1.0);
+  EXPECT_GT(m.continuity, 0.8);
+  EXPECT_GE(m.islands, 2u);
+  EXPECT_LE(m.islands, 4u);
+}
+
+TEST(UvMetrics, PerTriangleChartsAreIslands) {
+  Soup s = grid_soup(5, 0);
+  CornerUvs uv(s.triangles.size());
+  for (size_t t = 0; t < uv.size(); ++t) {
+    double x = 0.02 * double(t % 40), y = 0.02 * double(t / 40);
+    uv[t] = {Vec2{x, y}, Vec2{x + 0.01, y}, Vec2{x, y + 0.01}};
+  }
+  UvMetrics m = uv_metrics(s, uv, metric_adjacency(s, nullptr, 0));
+  EXPECT_EQ(m.islands, s.triangles.size());
+  EXPECT_EQ(m.continuity, 0.0);
+}
+
+TEST(UvMetrics, OriginalMeshGivesExactAdjacency) {
+  TriMesh sphere = shapes::icosphere(1.0, 2);
+  Soup noisy = shapes::to_soup(sphere, 1e-3, 7);
+  Soup original;
+  original.positions = sphere.vertices;
+  for (auto f : sphere.faces) original.triangles.push_back({uint32_t(f[0]), uint32_t(f[1]), uint32_t(f[2])});
+  auto adj = metric_adjacency(noisy, &original, 0);
+  EXPECT_EQ(adj.size(), sphere.faces.size() * 3 / 2);
+}
