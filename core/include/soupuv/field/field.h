@@ -1,0 +1,119 @@
+// The field engine's public API (paper §7): charge a triangle soup so that its
+// surface potential is constant, then trace field lines from its corners.
+//
+//   ChargeResult charges = solve_charges(soup, ChargeOptions{}, progress);
+//   FieldLines lines = trace_field_lines(charges, corner_seeds(soup), TraceOptions{}, progress);
+//
+// The charge model: every (possibly refined) source triangle carries a total
+// charge q_j spread uniformly over its area. Near a triangle its potential and
+// field are evaluated in closed form (triangle_integrals.h); further away by
+// the symmetric quadrature rule of `quadrature_degree` (quadrature.h); far away
+// through the fast multipole method (evaluator.h). ChargeResult and FieldLines
+// are plain data, so the pipeline can cache them; the FMM tree is rebuilt from
+// a ChargeResult on demand (FieldEvaluator).
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "soupuv/field/field_lines.h"
+#include "soupuv/progress.h"
+#include "soupuv/soup.h"
+#include "soupuv/vec.h"
+
+namespace soupuv::field {
+
+struct ChargeOptions {
+  enum class Solver { krylov, robin_hood, dense_lu };
+  Solver solver = Solver::krylov;
+  // Target max-norm relative deviation of the surface potential from its mean.
+  double tolerance = 1e-6;
+  int quadrature_degree = 4;        // 2, 4 or 6 (3, 6, 12 points per triangle)
+  int fmm_order = 8;                // Taylor expansion order p of the FMM
+  double fmm_theta = 0.5;           // multipole acceptance: (r_a + r_b) < theta * distance
+  int threads = 0;                  // 0: OpenMP default
+  // Triangles with area > refine_area_ratio * median area are split (midpoint
+  // subdivision) until they are not; 0 disables refinement.
+  double refine_area_ratio = 16.0;
+  // Krylov: total GMRES iterations; robin hood: charge transfers (0: 200 * n).
+  int max_iterations = 0;
+  double max_seconds = 0;           // stop early after this long (0: no limit)
+  // robin hood only: initial potentials by O(n^2) direct summation instead of the FMM.
+  bool direct_initialization = false;
+  // How the true error is re-evaluated: direct summation up to this many
+  // triangles, above it a high-order FMM (p = 14, theta = 0.3).
+  size_t verify_direct_max = 20000;
+};
+
+struct ChargeResult {
+  // The charged source geometry: the soup's triangles, large ones refined.
+  std::vector<Vec3> positions;
+  std::vector<Tri> triangles;
+  std::vector<uint32_t> parent;     // soup triangle each source triangle came from
+  std::vector<double> charges;      // total charge per source triangle; sum = 1
+  int quadrature_degree = 4;
+  int fmm_order = 8;
+  double fmm_theta = 0.5;
+
+  std::string solver;               // "krylov", "robin-hood", "robin-hood-direct-init", "dense-lu"
+  int iterations = 0;
+  double seconds = 0;               // wall time of the whole solve (incl. verification)
+  double solve_seconds = 0;         // without the final verification
+  bool converged = false;
+  // max_i |phi_i - mean(phi)| / mean(phi) over the collocation points (the
+  // centroids), by a fresh evaluation: direct summation or a high-order FMM.
+  double max_rel_potential_error = 0;
+  std::string verified_by;          // "direct" or "fmm"
+  double mean_potential = 0;
+  // Convergence history: the solver's own error estimate after each iteration
+  // (GMRES: relative residual; robin hood: tracked (max-min)/mean, sampled).
+  std::vector<double> history;
+  std::vector<double> history_seconds;
+  std::vector<int> history_iterations;
+  size_t source_triangles = 0;
+  size_t refined_triangles = 0;     // soup triangles that were split
+  std::vector<std::string> warnings;
+};
+
+ChargeResult solve_charges(const Soup& soup, const ChargeOptions& options,
+                           Progress& progress = Progress::none());
+
+// A field line start: the trace begins at position + start_offset * normal on
+// the chosen side.
+struct TraceSeed {
+  Vec3 position;
+  Vec3 normal;
+  int side = 0;          // +1 along normal, -1 against, 0: the side where |E| is larger
+  uint32_t corner = 0;   // triangle * 3 + k, copied into FieldLines::corner
+};
+
+// One seed per soup triangle corner (triangle * 3 + k), side 0.
+std::vector<TraceSeed> corner_seeds(const Soup& soup);
+
+struct TraceOptions {
+  enum class Integrator { euler, midpoint };
+  Integrator integrator = Integrator::midpoint;
+  int max_steps = 100;
+  double step = 0;           // nominal step length; 0: 2% of the source bounding-box diagonal
+  double start_offset = 0;   // epsilon; 0: 1e-3 * mean source edge length
+  double stop_radius = 0;    // stop outside this sphere around the bbox centre; 0: 1.5 * half diagonal + 50 steps
+  int threads = 0;
+  int fmm_order = 6;         // the tracer's own FMM accuracy (field rel. error ~1e-5)
+  double fmm_theta = 0.5;
+  bool keep_points = true;   // false: keep only the first and last point of each line
+};
+
+struct TraceStats {
+  double seconds = 0;
+  double build_seconds = 0;   // FMM tree and expansions (once)
+  size_t evaluations = 0;     // field evaluations
+  size_t steps = 0;
+  size_t escaped = 0, step_limit = 0, stalled = 0;
+};
+
+FieldLines trace_field_lines(const ChargeResult& charges, const std::vector<TraceSeed>& seeds,
+                             const TraceOptions& options, Progress& progress = Progress::none(),
+                             TraceStats* stats = nullptr);
+
+}  // namespace soupuv::field
