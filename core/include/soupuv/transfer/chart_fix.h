@@ -1,0 +1,35 @@
+// Chart-boundary correction (paper §8).
+//
+// Input : the soup, the proxy landing point of each corner, proxy + atlas.
+// Output: corrected corner UVs for every triangle whose corners landed on
+//         different charts: for each candidate chart (one of the corners'
+//         charts) the corners on other charts move to their closest point on
+//         that chart; the chart whose UV triangle area, at the atlas's global
+//         texel scale, differs least from the 3D area wins.
+// Cost  : one BVH per chart, built once: O(n log n); O(log n) per moved corner.
+#pragma once
+
+#include <array>
+#include <vector>
+
+#include "soupuv/atlas/atlas.h"
+#include "soupuv/progress.h"
+#include "soupuv/proxy/proxy_mesh.h"
+#include "soupuv/soup.h"
+#include "soupuv/transfer/triangle_bvh.h"
+
+namespace soupuv::transfer {
+
+struct ChartFixResult {
+  size_t multi_chart_triangles = 0;
+  size_t corrected_triangles = 0;  // triangles whose UVs changed
+};
+
+// Updates corner_uvs (and landing) in place.
+ChartFixResult fix_chart_boundaries(const Soup& soup, const proxy::ProxyMesh& proxy,
+                                    const atlas::Atlas& atlas,
+                                    std::vector<SurfacePoint>& landing,
+                                    std::vector<std::array<Vec2, 3>>& corner_uvs,
+                                    Progress& progress);
+
+}  // namespace soupuv::transfer

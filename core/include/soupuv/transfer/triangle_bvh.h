@@ -1,0 +1,66 @@
+// A bounding volume hierarchy over the triangles of a mesh (the proxy, or one
+// chart of it): first hit of a segment or ray, and the closest point.
+//
+// Input : mesh vertices and faces, optionally a subset of face ids.
+// Output: queries returning the face id, barycentric coordinates and point.
+// Cost  : build O(n log n) (median split on the longest axis of centroid
+//         bounds); queries O(log n) typical.
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <vector>
+
+#include "soupuv/mesh.h"
+#include "soupuv/vec.h"
+
+namespace soupuv::transfer {
+
+struct SurfacePoint {
+  int face = -1;                   // -1: nothing found
+  std::array<double, 3> bary{};    // weights of the face's corners 0, 1, 2
+  Vec3 point;
+  double t = 0;                    // segment parameter (hits) or distance (closest)
+  bool found() const { return face >= 0; }
+};
+
+class TriangleBvh {
+ public:
+  TriangleBvh() = default;
+  // All faces of `mesh`; the mesh must outlive the BVH.
+  explicit TriangleBvh(const TriMesh& mesh);
+  // Only `faces` (ids into mesh.faces).
+  TriangleBvh(const TriMesh& mesh, std::vector<int> faces);
+
+  // First intersection of the segment a + t (b - a), t in [0, 1], with any
+  // face, from either side. t of the result is the segment parameter.
+  SurfacePoint first_hit(Vec3 a, Vec3 b) const;
+
+  // Closest point of any face to p; t of the result is the distance.
+  SurfacePoint closest_point(Vec3 p) const;
+
+  size_t size() const { return faces_.size(); }
+
+ private:
+  struct Node {
+    Box3 box;
+    uint32_t first = 0, count = 0;  // leaf: faces_[first .. first+count)
+    uint32_t left = 0, right = 0;   // inner: child node ids (count == 0)
+  };
+  void build();
+  uint32_t build_node(uint32_t first, uint32_t count, std::vector<Vec3>& centroids);
+
+  const TriMesh* mesh_ = nullptr;
+  std::vector<int> faces_;
+  std::vector<Node> nodes_;
+};
+
+// Closest point on triangle (a, b, c) to p, with its barycentric weights.
+Vec3 closest_point_on_triangle(Vec3 p, Vec3 a, Vec3 b, Vec3 c, std::array<double, 3>& bary);
+
+// Segment a->b against triangle (p0, p1, p2), two-sided (Moller-Trumbore).
+// Returns true with the segment parameter t in [0,1] and barycentrics.
+bool segment_triangle(Vec3 a, Vec3 b, Vec3 p0, Vec3 p1, Vec3 p2, double& t,
+                      std::array<double, 3>& bary);
+
+}  // namespace soupuv::transfer
