@@ -4,6 +4,7 @@
 
 #include <array>
 #include <cstddef>
+#include <cstdint>
 #include <string>
 #include <vector>
 
@@ -15,11 +16,25 @@ namespace soupuv::io {
 
 enum class Format { glb, gltf, drc };
 
+// 4x4 matrix, column-major like glTF's node.matrix.
+using Mat4 = std::array<double, 16>;
+
+// One mesh placed in the world by one path through the node graph. Usually one
+// per mesh-carrying node; a node reachable along several parent paths (as in
+// CubeScaledInstances, where one child has four parents) gets one per path.
+struct MeshInstance {
+  int32_t node = -1;   // the node carrying the mesh (-1 for a raw .drc)
+  int32_t mesh = 0;
+  Mat4 world{1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1};  // local -> world
+};
+
 struct Asset {
   Format format = Format::glb;
   Soup soup;  // world space; soup.origins[t] says where triangle t came from
-  // The source glTF JSON as parsed (nodes, meshes, materials, ...), without
-  // buffer payloads; for a raw .drc a minimal synthesized document.
+  // The source glTF JSON as parsed (nodes, meshes, materials, ...). Buffers
+  // that were data: URIs have their "uri" removed (the payload is not kept);
+  // everything else, image URIs included, is as in the source. For a raw .drc
+  // a minimal synthesized document (one mesh, one primitive, no nodes).
   nlohmann::json document;
   size_t dropped_degenerate = 0;  // zero-area triangles removed while loading
   size_t skipped_primitives = 0;  // points/lines primitives skipped (with a warning)
@@ -31,6 +46,16 @@ struct Asset {
   // Empty when the loader did not record them: the writer then derives local
   // positions from world ones (not bit-exact under non-identity transforms).
   std::vector<std::array<float, 3>> local_positions;
+
+  // Which instance each soup triangle belongs to (index into `instances`),
+  // parallel to soup.triangles; the loader fills both. Vertices are never
+  // shared between instances or primitives; within one primitive instance only
+  // vertices that kept triangles use are present. Corner order is the source's
+  // (not flipped for mirroring matrices). Normalized-integer positions are
+  // dequantized to float first, so local_positions and soup.positions agree
+  // exactly under identity transforms.
+  std::vector<uint32_t> triangle_instance;
+  std::vector<MeshInstance> instances;
 };
 
 }  // namespace soupuv::io
