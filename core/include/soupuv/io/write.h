@@ -1,0 +1,66 @@
+// Writing the mapped soup back as a textured GLB, in the structure it came in.
+//
+// Input : the loaded Asset (soup + source document + local positions) and
+//         corner UVs, 3 per soup triangle (UV origin at the image's top-left,
+//         as glTF defines it); WriteOptions.
+// Output: the GLB bytes and what was dropped or changed (warnings), or
+//         soupuv::Error{invalid_input} when the UVs do not match the soup, or
+//         Error{internal} when the Draco encoder fails.
+//
+// What the GLB keeps and changes:
+//  - every soup triangle is written with its positions bit-exact in its own
+//    frame (Asset::local_positions), under its original node (name, matrix or
+//    TRS, children, scenes kept); one output mesh per (node, mesh) instance,
+//    because each instance of a mesh gets its own UVs; one output primitive per
+//    source primitive that still has triangles, with its material;
+//  - vertices are welded where local position AND UV agree, so they are split
+//    exactly where UVs differ; TEXCOORD_0 is float32;
+//  - materials keep name, factors, alphaMode, alphaCutoff, doubleSided,
+//    emissiveFactor; baseColorTexture becomes our texture on TEXCOORD_0; other
+//    textures (they referred to the old UVs) and material extensions are dropped
+//    with a warning;
+//  - skins, animations and morph targets are dropped with a warning: the
+//    output is the static bind pose;
+//  - the texture image lives in the BIN chunk (bufferView + mimeType);
+//  - with options.draco each primitive is KHR_draco_mesh_compression-encoded
+//    (required extension); its accessors keep counts and POSITION min/max.
+#pragma once
+
+#include <cstdint>
+#include <optional>
+#include <span>
+#include <string>
+#include <vector>
+
+#include "soupuv/io/asset.h"
+#include "soupuv/io/texture.h"
+#include "soupuv/vec.h"
+
+namespace soupuv::io {
+
+struct WriteOptions {
+  // nullopt: a generated UV-check texture of check_texture_size pixels.
+  std::optional<Texture> texture;
+  int check_texture_size = 1024;
+  bool draco = false;
+  // Draco quantization bits; 0 keeps the float32 values lossless (bit-exact).
+  int draco_position_bits = 0;
+  int draco_texcoord_bits = 0;
+  std::string generator = "soupuv";
+};
+
+struct WriteResult {
+  std::vector<uint8_t> glb;
+  std::vector<std::string> warnings;
+  size_t meshes = 0;      // output meshes, one per (node, mesh) instance
+  size_t primitives = 0;
+  size_t vertices = 0;    // after welding equal (position, UV) corners
+  size_t triangles = 0;
+  size_t nonfinite_uvs = 0;  // corners whose UV was NaN/inf, written as (0,0)
+  double seconds = 0;
+};
+
+WriteResult write_glb(const Asset& asset, std::span<const Vec2> corner_uvs,
+                      const WriteOptions& options = {});
+
+}  // namespace soupuv::io
