@@ -1,0 +1,80 @@
+// The server process: wires config, data directory, job store, scheduler,
+// HTTP server (routes.cpp) and the TTL sweeper together.
+#pragma once
+
+#include <atomic>
+#include <condition_variable>
+#include <map>
+#include <memory>
+#include <mutex>
+#include <string>
+#include <thread>
+
+#include <httplib.h>
+
+#include "soupuv/server/auth.h"
+#include "soupuv/server/config.h"
+#include "soupuv/server/files.h"
+#include "soupuv/server/job_store.h"
+#include "soupuv/server/metrics.h"
+#include "soupuv/server/params.h"
+#include "soupuv/server/scheduler.h"
+
+namespace soupuv::server {
+
+struct WebAsset {
+  std::string content_type;
+  std::string bytes;
+};
+
+// Everything a route handler may touch.
+struct ServerContext {
+  Config config;
+  std::unique_ptr<DataDir> data;
+  std::unique_ptr<JobStore> store;
+  Metrics metrics;
+  TokenSet tokens;
+  std::string worker_bin;  // empty: none found
+  WorkerCapabilities caps;
+  std::unique_ptr<Scheduler> scheduler;
+  std::map<std::string, WebAsset> web;  // URL path -> asset, loaded at start
+  std::string openapi_yaml;
+  std::atomic<int> validations_running{0};
+};
+
+class App {
+ public:
+  explicit App(Config config);  // throws std::runtime_error on bad setup
+  ~App();
+  // Binds (port 0 picks one) and serves until stop(). Returns false if bind failed.
+  bool bind();
+  int port() const { return port_; }
+  void serve();
+  void stop();
+
+ private:
+  void sweep_loop();
+
+  ServerContext ctx_;
+  httplib::Server http_;
+  int port_ = 0;
+  std::thread sweeper_;
+  std::mutex sweep_mu_;
+  std::condition_variable sweep_cv_;
+  bool stopping_ = false;
+};
+
+// Registers every route (routes.cpp). The table of (method, OpenAPI path) is
+// what the contract test compares with proto/openapi.yaml.
+void register_routes(httplib::Server& http, ServerContext& ctx);
+struct RouteInfo {
+  std::string method;
+  std::string path;  // OpenAPI form: /v1/jobs/{id}
+};
+const std::vector<RouteInfo>& api_routes();
+
+// Locates the soupuv CLI: the flag, then next to this executable, then the build tree.
+std::string find_worker_binary(const std::string& configured);
+std::string executable_dir();
+
+}  // namespace soupuv::server

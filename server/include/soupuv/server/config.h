@@ -1,0 +1,52 @@
+// soupuv-server configuration: command-line flags override SOUPUV_* environment
+// variables, which override the embedded defaults (one process, everything under
+// ./soupuv-data, no other service).
+//
+// Inputs: argv and an environment lookup. Output: Config, or ConfigError with a
+// one-line reason. Flag --name maps to env SOUPUV_NAME (dashes -> underscores).
+#pragma once
+
+#include <cstdint>
+#include <functional>
+#include <optional>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+namespace soupuv::server {
+
+struct Config {
+  std::string host = "127.0.0.1";
+  int port = 8080;
+  std::string data_dir = "./soupuv-data";
+  int workers = 1;                      // concurrent worker processes
+  int threads = 0;                      // total pipeline threads over all workers (0: cores)
+  int queue_capacity = 50;              // queued (not running) jobs
+  int64_t max_upload_bytes = 256ll << 20;
+  int job_timeout_s = 600;              // wall clock per job attempt
+  int result_ttl_s = 86400;             // finished jobs and their files
+  int64_t worker_memory_mb = 8192;      // RLIMIT_AS per worker
+  std::string tokens_file;              // empty: no authentication
+  int64_t cache_size_mb = 1024;         // field cache on disk (passed to workers)
+  std::vector<std::string> cors_origins;  // exact origins allowed; empty: none
+  std::string worker_bin;               // soupuv CLI; empty: next to the server
+  std::string web_dir;                  // upload page; empty: next to the server
+  int http_threads = 16;                // I/O threads (uploads, downloads, polls)
+  bool validate_uploads = true;         // run `soupuv inspect` before queueing
+  std::string log_level = "info";
+
+  int threads_per_job() const;
+};
+
+class ConfigError : public std::runtime_error {
+  using std::runtime_error::runtime_error;
+};
+
+using EnvLookup = std::function<std::optional<std::string>(const std::string&)>;
+
+// Throws ConfigError. `--help` is not handled here (see help_text()).
+Config parse_config(const std::vector<std::string>& args, const EnvLookup& env);
+EnvLookup process_env();
+std::string help_text();
+
+}  // namespace soupuv::server

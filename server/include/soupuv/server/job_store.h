@@ -1,0 +1,50 @@
+// Where job metadata lives. The embedded default is SqliteJobStore (one file,
+// WAL mode); a store shared by several machines implements the same interface.
+// Every method is safe to call from many threads.
+#pragma once
+
+#include <map>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "soupuv/server/job.h"
+
+namespace soupuv::server {
+
+struct JobPage {
+  std::vector<Job> jobs;
+  std::string next_cursor;  // empty when this is the last page
+};
+
+class JobStore {
+ public:
+  virtual ~JobStore() = default;
+
+  // Inserts a new job. If job.idempotency_key is set and already used, nothing
+  // is inserted and the existing job is returned instead.
+  virtual std::optional<Job> create_or_get_by_key(const Job& job) = 0;
+  virtual std::optional<Job> get(const std::string& id) = 0;
+  // Newest first; cursor is an opaque value from a previous page.
+  virtual JobPage list(std::optional<JobState> state, int limit, const std::string& cursor) = 0;
+
+  virtual void mark_running(const std::string& id, double at) = 0;  // attempts += 1
+  virtual void update_progress(const std::string& id, const std::string& stage, double fraction,
+                               const nlohmann::json& stage_seconds) = 0;
+  virtual void finish(const std::string& id, JobState state, const std::optional<JobError>& error,
+                      const std::vector<std::string>& outputs, double at) = 0;
+  virtual void request_cancel(const std::string& id) = 0;
+  virtual void remove(const std::string& id) = 0;
+
+  // Restart recovery: queued and running jobs, oldest first.
+  virtual std::vector<Job> unfinished() = 0;
+  // Finished jobs whose finished_at is before `before`.
+  virtual std::vector<std::string> finished_before(double before) = 0;
+  virtual std::map<std::string, int64_t> count_by_state() = 0;
+};
+
+// Opens (creating if needed) the SQLite database at `path`. Throws std::runtime_error.
+std::unique_ptr<JobStore> open_sqlite_job_store(const std::string& path);
+
+}  // namespace soupuv::server

@@ -1,0 +1,41 @@
+// Prometheus text exposition of the server's counters: HTTP requests by code,
+// jobs by state (from the store), queue depth, busy workers, stage duration
+// histograms, worker outcomes, cache hits reported by diagnostics.
+#pragma once
+
+#include <atomic>
+#include <map>
+#include <mutex>
+#include <string>
+#include <vector>
+
+namespace soupuv::server {
+
+class Metrics {
+ public:
+  void http_request(int status);
+  void stage_seconds(const std::string& stage, double seconds);
+  void job_finished(const std::string& state);
+  void cache_hits(int64_t hits);
+  void upload_bytes(int64_t bytes);
+
+  // `gauges` are point-in-time values the caller samples (queue depth, jobs by state).
+  std::string render(const std::map<std::string, double>& gauges) const;
+
+ private:
+  static const std::vector<double>& buckets();
+  struct Histogram {
+    std::vector<uint64_t> counts;  // cumulative per bucket, filled at render
+    std::vector<uint64_t> raw;
+    double sum = 0;
+    uint64_t count = 0;
+  };
+  mutable std::mutex mu_;
+  std::map<int, uint64_t> http_by_code_;
+  std::map<std::string, Histogram> stages_;
+  std::map<std::string, uint64_t> finished_by_state_;
+  uint64_t cache_hits_ = 0;
+  uint64_t upload_bytes_ = 0;
+};
+
+}  // namespace soupuv::server

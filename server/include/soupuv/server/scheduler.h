@@ -1,0 +1,80 @@
+// Bounded FIFO queue + N worker threads, each supervising one `soupuv map`
+// process at a time (worker_process.h). The HTTP threads only enqueue ids.
+//
+// Capacity counts queued jobs only (running ones hold a worker). Cancel: a
+// queued job is dropped from the queue; a running one gets SIGTERM (the CLI's
+// cancel flag), then SIGKILL after a grace period. Results are moved from the
+// job's work/ directory into place with fsync + rename, so a reader sees a
+// whole file or none.
+#pragma once
+
+#include <atomic>
+#include <condition_variable>
+#include <deque>
+#include <map>
+#include <memory>
+#include <mutex>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include "soupuv/server/config.h"
+#include "soupuv/server/files.h"
+#include "soupuv/server/job_store.h"
+#include "soupuv/server/metrics.h"
+#include "soupuv/server/params.h"
+
+namespace soupuv::server {
+
+class Scheduler {
+ public:
+  Scheduler(const Config& config, std::string worker_bin, WorkerCapabilities caps, JobStore& store,
+            const DataDir& data, Metrics& metrics);
+  ~Scheduler();
+
+  void start();
+  void stop();  // cancels running jobs' supervision; processes are killed
+
+  enum class Enqueue { accepted, full, stopping };
+  Enqueue enqueue(const std::string& id);
+  bool has_room() const;
+  // Puts every queued/running job from the store back in the queue (ignoring
+  // capacity: they were accepted before the restart).
+  size_t recover();
+  // True if the job was queued or running here.
+  bool cancel(const std::string& id);
+
+  size_t queue_depth() const;
+  int busy_workers() const;
+  int workers() const { return int(threads_.size()); }
+  const WorkerCapabilities& capabilities() const { return caps_; }
+
+ private:
+  void worker_loop();
+  void run_job(const std::string& id);
+
+  const Config& config_;
+  std::string worker_bin_;
+  WorkerCapabilities caps_;
+  JobStore& store_;
+  const DataDir& data_;
+  Metrics& metrics_;
+
+  mutable std::mutex mu_;
+  std::condition_variable cv_;
+  std::deque<std::string> queue_;
+  std::map<std::string, std::shared_ptr<std::atomic<bool>>> running_;  // id -> cancel flag
+  bool stopping_ = false;
+  std::vector<std::thread> threads_;
+};
+
+// How a finished worker process maps to a job state and error (one table).
+struct WorkerVerdict {
+  JobState state;
+  std::optional<JobError> error;
+};
+struct ProcessOutcome;
+WorkerVerdict classify_outcome(const ProcessOutcome& outcome, const std::string& last_reason,
+                               const Config& config);
+
+}  // namespace soupuv::server

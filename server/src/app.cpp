@@ -1,0 +1,162 @@
+#include "soupuv/server/app.h"
+
+#include <unistd.h>
+
+#include <filesystem>
+#include <fstream>
+
+#include "soupuv/server/log.h"
+#include "soupuv/server/problem.h"
+
+namespace soupuv::server {
+namespace fs = std::filesystem;
+namespace {
+
+std::string mime_for(const fs::path& p) {
+  const std::string ext = p.extension().string();
+  if (ext == ".html") return "text/html; charset=utf-8";
+  if (ext == ".js" || ext == ".mjs") return "text/javascript; charset=utf-8";
+  if (ext == ".css") return "text/css; charset=utf-8";
+  if (ext == ".svg") return "image/svg+xml";
+  if (ext == ".png") return "image/png";
+  if (ext == ".json") return "application/json";
+  if (ext == ".yaml") return "application/yaml";
+  return "application/octet-stream";
+}
+
+// Reads the whole web directory once: requests are then looked up in a map,
+// so no file path is ever built from a request.
+std::map<std::string, WebAsset> load_web(const fs::path& dir) {
+  std::map<std::string, WebAsset> out;
+  if (!fs::is_directory(dir)) return out;
+  for (const auto& e : fs::recursive_directory_iterator(dir)) {
+    if (!e.is_regular_file()) continue;
+    std::string rel = fs::relative(e.path(), dir).generic_string();
+    std::ifstream in(e.path(), std::ios::binary);
+    std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    WebAsset a{mime_for(e.path()), std::move(bytes)};
+    if (rel == "index.html") out["/"] = a;
+    out["/assets/" + rel] = std::move(a);
+  }
+  return out;
+}
+
+}  // namespace
+
+std::string executable_dir() {
+  std::error_code ec;
+  fs::path p = fs::read_symlink("/proc/self/exe", ec);
+  return ec ? std::string(".") : p.parent_path().string();
+}
+
+std::string find_worker_binary(const std::string& configured) {
+  if (!configured.empty()) return access(configured.c_str(), X_OK) == 0 ? fs::absolute(configured).string() : "";
+  const fs::path here = executable_dir();
+  for (const fs::path& p : {here / "soupuv", here / ".." / "core" / "apps" / "soupuv", here / ".." / "bin" / "soupuv"})
+    if (access(p.c_str(), X_OK) == 0) return fs::weakly_canonical(p).string();
+  return "";
+}
+
+App::App(Config config) {
+  ctx_.config = std::move(config);
+  const Config& c = ctx_.config;
+  ctx_.data = std::make_unique<DataDir>(fs::absolute(c.data_dir));
+  ctx_.store = open_sqlite_job_store(ctx_.data->database().string());
+  if (!c.tokens_file.empty()) ctx_.tokens = TokenSet::load(c.tokens_file);
+  ctx_.worker_bin = find_worker_binary(c.worker_bin);
+  if (!c.worker_bin.empty() && ctx_.worker_bin.empty())
+    throw std::runtime_error("--worker-bin " + c.worker_bin + " is not an executable file");
+  if (!ctx_.worker_bin.empty()) ctx_.caps = probe_worker(ctx_.worker_bin);
+  log::info("worker", {{"bin", ctx_.worker_bin}, {"flags", ctx_.caps.flags}, {"inspect", ctx_.caps.has_inspect}});
+
+  fs::path web = c.web_dir.empty() ? fs::path(executable_dir()) / "web" : fs::path(c.web_dir);
+  ctx_.web = load_web(web);
+  if (ctx_.web.empty()) log::warn("no upload page assets", {{"web_dir", web.string()}});
+  for (const fs::path& p : {web / "openapi.yaml", fs::path(executable_dir()) / "openapi.yaml"})
+    if (fs::exists(p)) {
+      std::ifstream in(p);
+      ctx_.openapi_yaml.assign(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+      break;
+    }
+
+  ctx_.scheduler = std::make_unique<Scheduler>(ctx_.config, ctx_.worker_bin, ctx_.caps, *ctx_.store,
+                                               *ctx_.data, ctx_.metrics);
+  // Hardening: short timeouts so slow clients cannot hold I/O threads, a body
+  // cap in httplib itself as a second line behind the Content-Length guard.
+  http_.set_payload_max_length(size_t(c.max_upload_bytes));
+  http_.set_read_timeout(30, 0);
+  http_.set_write_timeout(30, 0);
+  http_.set_keep_alive_timeout(5);
+  http_.set_keep_alive_max_count(100);
+  const int threads = c.http_threads;
+  http_.new_task_queue = [threads] { return new httplib::ThreadPool(size_t(threads)); };
+  register_routes(http_, ctx_);
+}
+
+App::~App() { stop(); }
+
+bool App::bind() {
+  const Config& c = ctx_.config;
+  if (c.port == 0) {
+    port_ = http_.bind_to_any_port(c.host);
+    if (port_ <= 0) return false;
+  } else {
+    if (!http_.bind_to_port(c.host, c.port)) return false;
+    port_ = c.port;
+  }
+  return true;
+}
+
+void App::serve() {
+  size_t recovered = ctx_.scheduler->recover();
+  ctx_.scheduler->start();
+  sweeper_ = std::thread([this] { sweep_loop(); });
+  log::info("listening", {{"host", ctx_.config.host}, {"port", port_}, {"data_dir", ctx_.data->root().string()},
+                          {"workers", ctx_.config.workers}, {"queue_capacity", ctx_.config.queue_capacity},
+                          {"threads_per_job", ctx_.config.threads_per_job()}, {"recovered_jobs", recovered},
+                          {"auth", ctx_.tokens.enabled()}});
+  http_.listen_after_bind();
+}
+
+void App::stop() {
+  {
+    std::lock_guard lock(sweep_mu_);
+    if (stopping_) return;
+    stopping_ = true;
+  }
+  sweep_cv_.notify_all();
+  http_.stop();
+  if (ctx_.scheduler) ctx_.scheduler->stop();
+  if (sweeper_.joinable()) sweeper_.join();
+  log::info("stopped");
+}
+
+void App::sweep_loop() {
+  const auto period = std::chrono::seconds(std::clamp(ctx_.config.result_ttl_s / 4, 1, 60));
+  std::unique_lock lock(sweep_mu_);
+  while (!stopping_) {
+    sweep_cv_.wait_for(lock, period, [&] { return stopping_; });
+    if (stopping_) break;
+    lock.unlock();
+    try {
+      for (const auto& id : ctx_.store->finished_before(now_seconds() - ctx_.config.result_ttl_s)) {
+        if (!is_valid_job_id(id)) continue;
+        std::error_code ec;
+        fs::remove_all(ctx_.data->job(id), ec);
+        ctx_.store->remove(id);
+        log::info("job expired", {{"job", id}});
+      }
+      // Uploads interrupted mid-stream (client gone, server killed).
+      std::error_code ec;
+      for (const auto& e : fs::directory_iterator(ctx_.data->uploads_tmp(), ec)) {
+        auto age = fs::file_time_type::clock::now() - fs::last_write_time(e.path(), ec);
+        if (!ec && age > std::chrono::hours(1)) fs::remove_all(e.path(), ec);
+      }
+    } catch (const std::exception& e) {
+      log::error("sweep failed", {{"error", e.what()}});
+    }
+    lock.lock();
+  }
+}
+
+}  // namespace soupuv::server

@@ -1,0 +1,82 @@
+#include "soupuv/server/metrics.h"
+
+#include <sstream>
+
+namespace soupuv::server {
+
+const std::vector<double>& Metrics::buckets() {
+  static const std::vector<double> b = {0.01, 0.05, 0.1, 0.5, 1, 2.5, 5, 10, 30, 60, 120, 300, 600};
+  return b;
+}
+
+void Metrics::http_request(int status) {
+  std::lock_guard lock(mu_);
+  ++http_by_code_[status];
+}
+
+void Metrics::stage_seconds(const std::string& stage, double seconds) {
+  std::lock_guard lock(mu_);
+  auto& h = stages_[stage];
+  if (h.raw.empty()) h.raw.assign(buckets().size(), 0);
+  for (size_t i = 0; i < buckets().size(); ++i)
+    if (seconds <= buckets()[i]) {
+      ++h.raw[i];
+      break;
+    }
+  h.sum += seconds;
+  ++h.count;
+}
+
+void Metrics::job_finished(const std::string& state) {
+  std::lock_guard lock(mu_);
+  ++finished_by_state_[state];
+}
+
+void Metrics::cache_hits(int64_t hits) {
+  std::lock_guard lock(mu_);
+  cache_hits_ += uint64_t(hits);
+}
+
+void Metrics::upload_bytes(int64_t bytes) {
+  std::lock_guard lock(mu_);
+  upload_bytes_ += uint64_t(bytes);
+}
+
+std::string Metrics::render(const std::map<std::string, double>& gauges) const {
+  std::ostringstream o;
+  std::lock_guard lock(mu_);
+  o << "# HELP soupuv_http_requests_total HTTP responses by status code.\n"
+       "# TYPE soupuv_http_requests_total counter\n";
+  for (const auto& [code, n] : http_by_code_)
+    o << "soupuv_http_requests_total{code=\"" << code << "\"} " << n << "\n";
+  o << "# HELP soupuv_jobs Jobs in the store by state.\n# TYPE soupuv_jobs gauge\n";
+  for (const auto& [name, v] : gauges)
+    if (name.rfind("jobs:", 0) == 0) o << "soupuv_jobs{state=\"" << name.substr(5) << "\"} " << v << "\n";
+  for (const auto& [name, v] : gauges)
+    if (name.rfind("jobs:", 0) != 0)
+      o << "# TYPE soupuv_" << name << " gauge\nsoupuv_" << name << " " << v << "\n";
+  o << "# HELP soupuv_jobs_finished_total Jobs finished by this process, by final state.\n"
+       "# TYPE soupuv_jobs_finished_total counter\n";
+  for (const auto& [state, n] : finished_by_state_)
+    o << "soupuv_jobs_finished_total{state=\"" << state << "\"} " << n << "\n";
+  o << "# HELP soupuv_stage_duration_seconds Pipeline stage durations reported by workers.\n"
+       "# TYPE soupuv_stage_duration_seconds histogram\n";
+  for (const auto& [stage, h] : stages_) {
+    uint64_t cum = 0;
+    for (size_t i = 0; i < buckets().size(); ++i) {
+      cum += h.raw[i];
+      o << "soupuv_stage_duration_seconds_bucket{stage=\"" << stage << "\",le=\"" << buckets()[i]
+        << "\"} " << cum << "\n";
+    }
+    o << "soupuv_stage_duration_seconds_bucket{stage=\"" << stage << "\",le=\"+Inf\"} " << h.count << "\n";
+    o << "soupuv_stage_duration_seconds_sum{stage=\"" << stage << "\"} " << h.sum << "\n";
+    o << "soupuv_stage_duration_seconds_count{stage=\"" << stage << "\"} " << h.count << "\n";
+  }
+  o << "# HELP soupuv_cache_hits_total Field-cache hits reported in job diagnostics.\n"
+       "# TYPE soupuv_cache_hits_total counter\nsoupuv_cache_hits_total " << cache_hits_ << "\n";
+  o << "# HELP soupuv_upload_bytes_total Bytes of accepted uploads.\n"
+       "# TYPE soupuv_upload_bytes_total counter\nsoupuv_upload_bytes_total " << upload_bytes_ << "\n";
+  return o.str();
+}
+
+}  // namespace soupuv::server

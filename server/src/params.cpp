@@ -1,0 +1,171 @@
+#include "soupuv/server/params.h"
+
+#include <atomic>
+#include <cmath>
+#include <regex>
+#include <cstdio>
+#include <unistd.h>
+
+#include "soupuv/server/worker_process.h"
+
+namespace soupuv::server {
+namespace {
+
+enum class Kind { boolean, integer, number, choice };
+
+struct ParamSpec {
+  const char* name;   // API name in params JSON
+  const char* flag;   // soupuv map flag
+  Kind kind;
+  nlohmann::json fallback;  // default; null: not passed unless given
+  double lo = 0, hi = 0;    // integer/number range
+  std::vector<std::string> values = {};  // choice
+};
+
+// THE mapping. Keep in sync with `soupuv map --help` (flags not listed there are
+// refused with a clear reason until the CLI gains them).
+const std::vector<ParamSpec>& specs() {
+  static const std::vector<ParamSpec> table = {
+      {"method", "--method", Kind::choice, "box", 0, 0, {"box", "field"}},
+      {"offset", "--offset", Kind::number, nullptr, 0, 1},
+      {"resolution", "--resolution", Kind::integer, nullptr, 8, 4096},
+      {"solver", "--solver", Kind::choice, nullptr, 0, 0, {"robin-hood", "krylov"}},
+      {"tolerance", "--tolerance", Kind::number, nullptr, 1e-12, 1},
+      {"steps", "--steps", Kind::integer, nullptr, 1, 100000},
+      {"integrator", "--integrator", Kind::choice, nullptr, 0, 0, {"euler", "rk4", "rk45"}},
+      {"texture_size", "--texture-size", Kind::integer, nullptr, 16, 16384},
+      {"padding", "--padding", Kind::integer, nullptr, 0, 256},
+      {"draco", "--draco", Kind::boolean, false},
+      // Special: the scheduler passes --debug-dir with the job's work directory.
+      {"debug_outputs", "--debug-dir", Kind::boolean, false},
+      {"seam_hints", "--seam-hints", Kind::boolean, nullptr},
+  };
+  return table;
+}
+
+std::string type_name(Kind k) {
+  switch (k) {
+    case Kind::boolean: return "boolean";
+    case Kind::integer: return "integer";
+    case Kind::number: return "number";
+    case Kind::choice: return "string";
+  }
+  return "string";
+}
+
+}  // namespace
+
+WorkerCapabilities probe_worker(const std::string& worker_bin) {
+  WorkerCapabilities caps;
+  static const std::regex flag_re("--[a-z][a-z0-9-]*");
+  for (std::vector<std::string> argv : {std::vector<std::string>{worker_bin, "--help"},
+                                        std::vector<std::string>{worker_bin, "map", "--help"}}) {
+    std::string text;
+    std::atomic<bool> never{false};
+    ProcessLimits limits;
+    limits.wall_seconds = 10;
+    run_process(argv, {}, limits, never, [&](const std::string& line) { text += line + "\n"; });
+    // Help may go to stdout; capture it through a temp file as well.
+    char tmpl[] = "/tmp/soupuv-help-XXXXXX";
+    int fd = mkstemp(tmpl);
+    if (fd >= 0) {
+      close(fd);
+      run_process(argv, {}, limits, never, [](const std::string&) {}, tmpl);
+      FILE* f = std::fopen(tmpl, "r");
+      if (f) {
+        char buf[4096];
+        size_t n;
+        while ((n = std::fread(buf, 1, sizeof buf, f)) > 0) text.append(buf, n);
+        std::fclose(f);
+      }
+      std::remove(tmpl);
+    }
+    if (text.find("inspect") != std::string::npos) caps.has_inspect = true;
+    for (std::sregex_iterator it(text.begin(), text.end(), flag_re), end; it != end; ++it)
+      caps.flags.insert(it->str());
+  }
+  return caps;
+}
+
+ParamError validate_params(const nlohmann::json& in, const WorkerCapabilities& caps, nlohmann::json& out) {
+  out = nlohmann::json::object();
+  if (!in.is_null() && !in.is_object()) return {"params must be a JSON object"};
+  if (in.is_object())
+    for (auto it = in.begin(); it != in.end(); ++it) {
+      bool known = false;
+      for (const auto& s : specs()) known = known || it.key() == s.name;
+      if (!known) return {"unknown parameter '" + it.key() + "'"};
+    }
+  for (const auto& s : specs()) {
+    bool given = in.is_object() && in.contains(s.name) && !in.at(s.name).is_null();
+    nlohmann::json v = given ? in.at(s.name) : s.fallback;
+    if (v.is_null()) continue;
+    const std::string name = s.name;
+    switch (s.kind) {
+      case Kind::boolean:
+        if (!v.is_boolean()) return {name + " must be a boolean"};
+        break;
+      case Kind::integer:
+        if (!v.is_number_integer() || v.get<double>() < s.lo || v.get<double>() > s.hi)
+          return {name + " must be an integer in [" + std::to_string(int64_t(s.lo)) + ", " +
+                  std::to_string(int64_t(s.hi)) + "]"};
+        break;
+      case Kind::number:
+        if (!v.is_number() || !std::isfinite(v.get<double>()) || v.get<double>() < s.lo ||
+            v.get<double>() > s.hi)
+          return {name + " must be a number in [" + nlohmann::json(s.lo).dump() + ", " +
+                  nlohmann::json(s.hi).dump() + "]"};
+        break;
+      case Kind::choice: {
+        bool ok = v.is_string();
+        bool listed = false;
+        for (const auto& c : s.values) listed = listed || (ok && v.get<std::string>() == c);
+        if (!listed) {
+          std::string all;
+          for (const auto& c : s.values) all += (all.empty() ? "" : ", ") + c;
+          return {name + " must be one of: " + all};
+        }
+        break;
+      }
+    }
+    // A default-valued boolean that is false needs no flag; anything else does.
+    bool needs_flag = !(s.kind == Kind::boolean && !v.get<bool>()) && (given || !s.fallback.is_null());
+    if (needs_flag && !caps.has(s.flag) && given)
+      return {"parameter '" + name + "' is not supported by this soupuv build (its CLI has no " +
+              s.flag + ")"};
+    out[s.name] = v;
+  }
+  return {};
+}
+
+std::vector<std::string> params_to_flags(const nlohmann::json& params, const WorkerCapabilities& caps) {
+  std::vector<std::string> flags;
+  for (const auto& s : specs()) {
+    if (!params.contains(s.name) || !caps.has(s.flag)) continue;
+    const auto& v = params.at(s.name);
+    if (s.kind == Kind::boolean) {
+      if (v.get<bool>() && std::string(s.name) != "debug_outputs") flags.push_back(s.flag);
+      continue;
+    }
+    flags.push_back(s.flag);
+    flags.push_back(v.is_string() ? v.get<std::string>() : v.dump());
+  }
+  return flags;
+}
+
+nlohmann::json describe_params(const WorkerCapabilities& caps) {
+  nlohmann::json out = nlohmann::json::array();
+  for (const auto& s : specs()) {
+    nlohmann::json d = {{"name", s.name}, {"type", type_name(s.kind)}, {"default", s.fallback},
+                        {"flag", s.flag}, {"supported", caps.has(s.flag)}};
+    if (s.kind == Kind::integer || s.kind == Kind::number) {
+      d["min"] = s.lo;
+      d["max"] = s.hi;
+    }
+    if (s.kind == Kind::choice) d["values"] = s.values;
+    out.push_back(d);
+  }
+  return out;
+}
+
+}  // namespace soupuv::server

@@ -1,0 +1,520 @@
+// Every HTTP route of soupuv-server, in one file: the API v1 job routes, the
+// operational endpoints (/healthz /readyz /metrics), the OpenAPI document and
+// the upload page. Cross-cutting guards (headers checked before a body is read,
+// auth, CORS, problem+json for every error) are installed here too.
+#include <sys/stat.h>
+
+#include <filesystem>
+#include <fstream>
+
+#include "soupuv/hash.h"
+#include "soupuv/server/app.h"
+#include "soupuv/server/http_guards.h"
+#include "soupuv/server/log.h"
+#include "soupuv/server/problem.h"
+#include "soupuv/server/upload_check.h"
+#include "soupuv/server/worker_process.h"
+
+namespace soupuv::server {
+namespace fs = std::filesystem;
+
+const std::vector<RouteInfo>& api_routes() {
+  static const std::vector<RouteInfo> routes = {
+      {"post", "/v1/jobs"},
+      {"get", "/v1/jobs"},
+      {"get", "/v1/jobs/{id}"},
+      {"delete", "/v1/jobs/{id}"},
+      {"get", "/v1/jobs/{id}/result"},
+      {"get", "/v1/jobs/{id}/diagnostics"},
+      {"get", "/v1/jobs/{id}/uv-layout.png"},
+      {"get", "/v1/jobs/{id}/proxy.glb"},
+      {"get", "/v1/jobs/{id}/field-lines.glb"},
+      {"get", "/v1/params"},
+      {"get", "/v1/openapi.yaml"},
+      {"get", "/healthz"},
+      {"get", "/readyz"},
+      {"get", "/metrics"},
+  };
+  return routes;
+}
+
+namespace {
+
+constexpr int64_t kMaxParamsBytes = 64 << 10;
+const char* const kJobIdPattern = "(j[a-z2-7]{26})";
+
+int retry_after_seconds(const ServerContext& ctx) {
+  // Rough: one queue's worth of work per worker, a few seconds each; clients
+  // only need a sensible back-off, not a promise.
+  size_t depth = ctx.scheduler->queue_depth();
+  return int(std::clamp<size_t>(depth / size_t(std::max(1, ctx.config.workers)), 1, 60));
+}
+
+void queue_full(httplib::Response& res, const ServerContext& ctx, int status) {
+  res.set_header("Retry-After", std::to_string(retry_after_seconds(ctx)));
+  set_problem(res, status, status == 429 ? "queue-full" : "unavailable",
+              status == 429 ? "the job queue is full; retry after the indicated seconds"
+                            : "the server is not accepting jobs right now");
+}
+
+void send_json(httplib::Response& res, int status, const nlohmann::json& j) {
+  res.status = status;
+  res.set_content(j.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace), "application/json");
+}
+
+// Streams a file from disk in 64 KiB pieces (never loaded whole).
+bool send_file(httplib::Response& res, const fs::path& path, const std::string& type) {
+  std::error_code ec;
+  auto size = fs::file_size(path, ec);
+  if (ec) return false;
+  auto in = std::make_shared<std::ifstream>(path, std::ios::binary);
+  if (!*in) return false;
+  res.set_content_provider(
+      size_t(size), type,
+      [in](size_t offset, size_t length, httplib::DataSink& sink) {
+        char buf[65536];
+        in->seekg(std::streamoff(offset));
+        size_t n = std::min(length, sizeof buf);
+        in->read(buf, std::streamsize(n));
+        auto got = size_t(in->gcount());
+        if (got == 0) return false;
+        return sink.write(buf, got);
+      });
+  return true;
+}
+
+std::optional<Job> job_or_404(ServerContext& ctx, const httplib::Request& req, httplib::Response& res) {
+  const std::string id = req.matches[1];
+  auto job = is_valid_job_id(id) ? ctx.store->get(id) : std::nullopt;
+  if (!job) set_problem(res, 404, "not-found", "no such job");
+  return job;
+}
+
+// Query parameters -> params JSON: `params=<json>` and/or one key per parameter
+// (numbers and booleans parsed, anything else a string).
+std::optional<nlohmann::json> params_from_query(const httplib::Request& req, std::string& error) {
+  nlohmann::json p = nlohmann::json::object();
+  if (req.has_param("params")) {
+    p = nlohmann::json::parse(req.get_param_value("params"), nullptr, false);
+    if (!p.is_object()) {
+      error = "query parameter 'params' must be a JSON object";
+      return std::nullopt;
+    }
+  }
+  for (const auto& [k, v] : req.params) {
+    if (k == "params") continue;
+    auto parsed = nlohmann::json::parse(v, nullptr, false);
+    p[k] = (parsed.is_number() || parsed.is_boolean()) ? parsed : nlohmann::json(v);
+  }
+  return p;
+}
+
+bool valid_idempotency_key(const std::string& k) {
+  if (k.empty() || k.size() > 128) return false;
+  return std::all_of(k.begin(), k.end(), [](unsigned char c) {
+    return std::isalnum(c) || c == '-' || c == '_' || c == '.' || c == ':';
+  });
+}
+
+struct ValidationSlot {
+  std::atomic<int>& n;
+  ~ValidationSlot() { --n; }
+};
+
+// Runs `soupuv inspect` on the upload in a child process (never in the server:
+// a hostile file may crash a parser) and turns a refusal into a problem.
+std::optional<Rejection> inspect_upload(ServerContext& ctx, const fs::path& file) {
+  if (!ctx.config.validate_uploads || !ctx.caps.has_inspect) return std::nullopt;
+  // Bound concurrent inspections so uploads cannot starve the workers' cores.
+  int limit = std::max(1, ctx.config.workers);
+  while (ctx.validations_running.fetch_add(1) >= limit) {
+    --ctx.validations_running;
+    std::this_thread::sleep_for(std::chrono::milliseconds(20));
+  }
+  ValidationSlot slot{ctx.validations_running};
+  ProcessLimits limits;
+  limits.wall_seconds = 60;
+  limits.address_space_bytes = ctx.config.worker_memory_mb << 20;
+  limits.cpu_seconds = 60;
+  std::string reason;
+  std::atomic<bool> never{false};
+  auto outcome = run_process({ctx.worker_bin, "inspect", file.string()}, {"OMP_NUM_THREADS=1"}, limits, never,
+                             [&](const std::string& line) {
+                               if (line.rfind("soupuv: ", 0) == 0) reason = line.substr(8, 500);
+                             });
+  auto verdict = classify_outcome(outcome, reason, ctx.config);
+  if (verdict.state == JobState::succeeded) return std::nullopt;
+  const JobError& e = *verdict.error;
+  if (e.http_status >= 500) {  // a crash or timeout in inspect: let the job decide
+    log::warn("inspect failed, queueing anyway", {{"detail", e.detail}});
+    return std::nullopt;
+  }
+  return Rejection{e.http_status, e.code == "no_triangles" ? "no-triangles" : "invalid-model", e.detail};
+}
+
+// POST /v1/jobs. Order matters: cheap refusals (queue full, bad key) before the
+// body is read; the body streams to a temp directory under a byte budget; the
+// directory is renamed into place only once the upload is whole and checked.
+void submit_job(ServerContext& ctx, const httplib::Request& req, httplib::Response& res,
+                const httplib::ContentReader& content_reader) {
+  if (ctx.worker_bin.empty()) return set_problem(res, 503, "unavailable", "no worker binary is installed");
+  if (!ctx.scheduler->has_room()) return queue_full(res, ctx, 429);
+  const std::string key = req.get_header_value("Idempotency-Key");
+  if (req.has_header("Idempotency-Key") && !valid_idempotency_key(key))
+    return set_problem(res, 400, "bad-idempotency-key", "Idempotency-Key must be 1-128 characters of [A-Za-z0-9-_.:]");
+  std::string perr;
+  auto query_params = params_from_query(req, perr);
+  if (!query_params) return set_problem(res, 400, "invalid-params", perr);
+
+  const std::string id = new_job_id();
+  const fs::path tmp = ctx.data->uploads_tmp() / id;
+  fs::create_directories(tmp);
+  struct Cleanup {
+    fs::path p;
+    ~Cleanup() {
+      std::error_code ec;
+      if (!p.empty()) fs::remove_all(p, ec);
+    }
+  } cleanup{tmp};
+
+  const std::string media = media_type(req.get_header_value("Content-Type"));
+  const int64_t budget = ctx.config.max_upload_bytes;
+  Hasher hasher;
+  std::optional<ModelKind> kind;
+  std::string params_text, texture_name;
+  bool too_large = false, have_model = false;
+  int64_t model_bytes = 0;
+
+  auto kind_for = [](const std::string& m) -> std::optional<ModelKind> {
+    if (m == "model/gltf-binary") return ModelKind::glb;
+    if (m == "model/gltf+json") return ModelKind::gltf;
+    if (m == "application/octet-stream") return ModelKind::draco;
+    return std::nullopt;
+  };
+
+  if (media == "multipart/form-data") {
+    std::unique_ptr<BoundedFileWriter> writer;
+    std::string part;
+    int64_t total = 0;
+    bool bad_part = false;
+    std::string bad_detail;
+    bool ok = content_reader(
+        [&](const httplib::MultipartFormData& f) {
+          if (writer) writer->finish();
+          writer.reset();
+          part = f.name;
+          hasher.add(std::string_view(part));
+          if (part == "file") {
+            if (have_model) { bad_part = true; bad_detail = "more than one 'file' part"; return false; }
+            have_model = true;
+            kind = kind_for(media_type(f.content_type));
+            const std::string fname = f.filename;
+            if (!kind || media_type(f.content_type) == "application/octet-stream") {
+              // Browsers send octet-stream for unknown extensions: go by the name.
+              auto ends = [&](const char* e) { return fname.size() >= strlen(e) && fname.compare(fname.size() - strlen(e), strlen(e), e) == 0; };
+              if (ends(".glb")) kind = ModelKind::glb;
+              else if (ends(".gltf")) kind = ModelKind::gltf;
+              else if (ends(".drc")) kind = ModelKind::draco;
+              else if (!kind) { bad_part = true; bad_detail = "the file part must be a .glb, .gltf or .drc"; return false; }
+            }
+            writer = std::make_unique<BoundedFileWriter>(tmp / file_name_for(*kind), budget);
+          } else if (part == "texture") {
+            std::string m = media_type(f.content_type);
+            if (m != "image/png" && m != "image/jpeg") { bad_part = true; bad_detail = "texture must be image/png or image/jpeg"; return false; }
+            texture_name = m == "image/png" ? "texture.png" : "texture.jpg";
+            writer = std::make_unique<BoundedFileWriter>(tmp / texture_name, budget);
+          } else if (part != "params") {
+            bad_part = true;
+            bad_detail = "unknown form part '" + part.substr(0, 40) + "' (expected file, params, texture)";
+            return false;
+          }
+          return true;
+        },
+        [&](const char* data, size_t n) {
+          total += int64_t(n);
+          if (total > budget) { too_large = true; return false; }
+          hasher.add_bytes(data, n);
+          if (part == "params") {
+            if (int64_t(params_text.size() + n) > kMaxParamsBytes) { bad_part = true; bad_detail = "params part larger than 64 KiB"; return false; }
+            params_text.append(data, n);
+            return true;
+          }
+          if (!writer) return false;
+          if (part == "file") model_bytes += int64_t(n);
+          return writer->write(data, n);
+        });
+    if (writer) writer->finish();
+    if (too_large) return set_problem(res, 413, "too-large", "upload exceeds the byte limit");
+    if (bad_part) return set_problem(res, 400, "invalid-form", bad_detail);
+    if (!ok) return set_problem(res, 400, "invalid-form", "the multipart body could not be read");
+    if (!have_model) return set_problem(res, 400, "invalid-form", "multipart body needs a 'file' part");
+  } else {
+    kind = kind_for(media);
+    BoundedFileWriter writer(tmp / "body", budget);
+    char sniff[5] = {};
+    size_t sniffed = 0;
+    bool ok = content_reader([&](const char* data, size_t n) {
+      for (size_t i = 0; i < n && sniffed < 5; ++i) sniff[sniffed++] = data[i];
+      hasher.add_bytes(data, n);
+      if (!writer.write(data, n)) { too_large = true; return false; }
+      return true;
+    });
+    writer.finish();
+    if (too_large) return set_problem(res, 413, "too-large", "upload exceeds the byte limit");
+    if (!ok) return set_problem(res, 400, "incomplete-body", "the request body could not be read whole");
+    // application/octet-stream is Draco, but a GLB sent as octet-stream is recognised.
+    if (*kind == ModelKind::draco && sniffed >= 4 && std::memcmp(sniff, "glTF", 4) == 0) kind = ModelKind::glb;
+    model_bytes = writer.bytes();
+    fs::rename(tmp / "body", tmp / file_name_for(*kind));
+  }
+
+  nlohmann::json raw_params = *query_params;
+  if (!params_text.empty()) {
+    auto p = nlohmann::json::parse(params_text, nullptr, false);
+    if (!p.is_object()) return set_problem(res, 400, "invalid-params", "the params part must be a JSON object");
+    for (auto it = p.begin(); it != p.end(); ++it) raw_params[it.key()] = it.value();
+  }
+  nlohmann::json params;
+  if (auto e = validate_params(raw_params, ctx.caps, params)) return set_problem(res, 400, "invalid-params", e.detail);
+  hasher.add(std::string_view(params.dump()));
+
+  const fs::path model = tmp / file_name_for(*kind);
+  UploadVerdict check = check_model_file(model, *kind);
+  if (!check.ok) return set_problem(res, 400, check.slug, check.detail);
+  if (auto r = inspect_upload(ctx, model)) return set_problem(res, r->status, r->slug, r->detail);
+
+  Job job;
+  job.id = id;
+  job.created_at = now_seconds();
+  job.params = params;
+  job.input_file = file_name_for(*kind);
+  job.content_type = *kind == ModelKind::glb ? "model/gltf-binary" : *kind == ModelKind::gltf ? "model/gltf+json" : "application/octet-stream";
+  job.input_bytes = model_bytes;
+  job.idempotency_key = key;
+  job.request_hash = hasher.hex();
+
+  // Durable before visible: files are fsynced by BoundedFileWriter, the
+  // directory rename is atomic, then the row is committed.
+  const fs::path dir = ctx.data->job(id);
+  fs::rename(tmp, dir);
+  cleanup.p = dir;  // until the job is committed below
+  fsync_path(dir.parent_path());
+  auto stored = ctx.store->create_or_get_by_key(job);
+  if (!stored) return set_problem(res, 500, "internal", "job could not be stored");
+  if (stored->id != id) {  // Idempotency-Key already used
+    if (stored->request_hash != job.request_hash)
+      return set_problem(res, 422, "idempotency-key-reused", "this Idempotency-Key was used with a different request");
+    res.set_header("Location", "/v1/jobs/" + stored->id);
+    res.set_header("Idempotent-Replayed", "true");
+    return send_json(res, 202, to_json(*stored));
+  }
+  auto queued = ctx.scheduler->enqueue(id);
+  if (queued != Scheduler::Enqueue::accepted) {
+    ctx.store->remove(id);
+    return queue_full(res, ctx, queued == Scheduler::Enqueue::full ? 429 : 503);
+  }
+  cleanup.p.clear();
+  ctx.metrics.upload_bytes(model_bytes);
+  log::info("job submitted", {{"job", id}, {"bytes", model_bytes}, {"type", job.content_type}, {"params", params}});
+  res.set_header("Location", "/v1/jobs/" + id);
+  send_json(res, 202, to_json(*stored));
+}
+
+void serve_output(ServerContext& ctx, const httplib::Request& req, httplib::Response& res, const std::string& name,
+                  const std::string& type) {
+  auto job = job_or_404(ctx, req, res);
+  if (!job) return;
+  if (job->state != JobState::succeeded) {
+    nlohmann::json extra = {{"state", to_string(job->state)}};
+    if (job->error) extra["job_error"] = {{"code", job->error->code}, {"detail", job->error->detail}};
+    return set_problem(res, 409, "not-finished",
+                       job->state == JobState::failed ? "the job failed: " + (job->error ? job->error->detail : "")
+                                                      : std::string("the job is ") + to_string(job->state),
+                       extra);
+  }
+  if (std::find(job->outputs.begin(), job->outputs.end(), name) == job->outputs.end() ||
+      !send_file(res, ctx.data->job(job->id) / name, type))
+    return set_problem(res, 404, "not-found", "this job has no " + name);
+  res.status = 200;
+  if (name == "result.glb") res.set_header("Content-Disposition", "attachment; filename=\"" + job->id + ".glb\"");
+}
+
+bool cors_allowed(const ServerContext& ctx, const std::string& origin) {
+  return !origin.empty() && std::find(ctx.config.cors_origins.begin(), ctx.config.cors_origins.end(), origin) !=
+                                ctx.config.cors_origins.end();
+}
+
+}  // namespace
+
+void register_routes(httplib::Server& http, ServerContext& ctx) {
+  // ---- guards -------------------------------------------------------------
+  auto guard = [&ctx](const httplib::Request& req, httplib::Response& res) -> bool {
+    if (auto r = check_request_headers(req, ctx.config.max_upload_bytes)) {
+      set_problem(res, r->status, r->slug, r->detail);
+      // The body (if any) is unread: the connection cannot carry another request.
+      res.set_header("Connection", "close");
+      return false;
+    }
+    if (ctx.tokens.enabled() && req.path.rfind("/v1/", 0) == 0 && req.path != "/v1/openapi.yaml" &&
+        req.method != "OPTIONS") {
+      if (!req.has_header("Authorization")) {
+        res.set_header("WWW-Authenticate", "Bearer realm=\"soupuv\"");
+        set_problem(res, 401, "unauthorized", "a bearer token is required");
+        res.set_header("Connection", "close");
+        return false;
+      }
+      if (!ctx.tokens.accepts(TokenSet::bearer(req.get_header_value("Authorization")))) {
+        set_problem(res, 403, "forbidden", "the bearer token is not accepted");
+        res.set_header("Connection", "close");
+        return false;
+      }
+    }
+    return true;
+  };
+  http.set_expect_100_continue_handler([guard](const httplib::Request& req, httplib::Response& res) {
+    return guard(req, res) ? 100 : res.status;
+  });
+  http.set_pre_routing_handler([&ctx, guard](const httplib::Request& req, httplib::Response& res) {
+    const std::string origin = req.get_header_value("Origin");
+    if (cors_allowed(ctx, origin)) {
+      res.set_header("Access-Control-Allow-Origin", origin);
+      res.set_header("Vary", "Origin");
+      res.set_header("Access-Control-Expose-Headers", "Location, Retry-After");
+    }
+    if (req.method == "OPTIONS") {  // CORS preflight: answered here, nothing else
+      if (cors_allowed(ctx, origin)) {
+        res.set_header("Access-Control-Allow-Methods", "GET, POST, DELETE, OPTIONS");
+        res.set_header("Access-Control-Allow-Headers", "Authorization, Content-Type, Idempotency-Key");
+        res.set_header("Access-Control-Max-Age", "600");
+      }
+      res.status = 204;
+      return httplib::Server::HandlerResponse::Handled;
+    }
+    return guard(req, res) ? httplib::Server::HandlerResponse::Unhandled : httplib::Server::HandlerResponse::Handled;
+  });
+  // 0.11.4 puts e.what() into a response header without a handler; ours logs
+  // it and answers a plain problem.
+  http.set_exception_handler([](const httplib::Request& req, httplib::Response& res, std::exception_ptr ep) {
+    std::string what = "unknown";
+    try {
+      std::rethrow_exception(ep);
+    } catch (const std::exception& e) {
+      what = e.what();
+    } catch (...) {
+    }
+    log::error("request failed", {{"method", req.method}, {"path", req.path.substr(0, 200)}, {"error", what}});
+    set_problem(res, 500, "internal", "internal server error");
+  });
+  // Errors httplib produces itself (unknown route, 400 on a bad request line,
+  // 413 from its payload cap) get a problem body too.
+  http.set_error_handler(httplib::Server::HandlerWithResponse([](const httplib::Request&, httplib::Response& res) {
+    if (!res.body.empty() || res.is_chunked_content_provider_) return httplib::Server::HandlerResponse::Unhandled;
+    std::string slug = res.status == 404 ? "not-found" : res.status == 413 ? "too-large" : "bad-request";
+    set_problem(res, res.status, slug, status_title(res.status));
+    return httplib::Server::HandlerResponse::Handled;
+  }));
+  http.set_logger([&ctx](const httplib::Request& req, const httplib::Response& res) {
+    ctx.metrics.http_request(res.status);
+    if (req.path == "/healthz" || req.path == "/readyz" || req.path == "/metrics") return;
+    // Never raw header values: method, a bounded path, status only.
+    log::info("http", {{"method", req.method.substr(0, 10)}, {"path", req.path.substr(0, 200)}, {"status", res.status}});
+  });
+
+  // ---- API v1 -------------------------------------------------------------
+  http.Post("/v1/jobs", [&ctx](const httplib::Request& req, httplib::Response& res, const httplib::ContentReader& reader) {
+    submit_job(ctx, req, res, reader);
+  });
+  http.Get("/v1/jobs", [&ctx](const httplib::Request& req, httplib::Response& res) {
+    std::optional<JobState> state;
+    if (req.has_param("state")) {
+      state = parse_job_state(req.get_param_value("state"));
+      if (!state) return set_problem(res, 400, "invalid-query", "state must be queued, running, succeeded, failed or canceled");
+    }
+    int limit = 20;
+    if (req.has_param("limit")) {
+      const std::string v = req.get_param_value("limit");
+      if (v.empty() || v.size() > 3 || !std::all_of(v.begin(), v.end(), ::isdigit) || std::stoi(v) < 1 || std::stoi(v) > 100)
+        return set_problem(res, 400, "invalid-query", "limit must be an integer in [1, 100]");
+      limit = std::stoi(v);
+    }
+    std::string cursor = req.has_param("cursor") ? req.get_param_value("cursor") : "";
+    if (cursor.size() > 20 || !std::all_of(cursor.begin(), cursor.end(), ::isdigit))
+      return set_problem(res, 400, "invalid-query", "cursor must come from next_cursor");
+    auto page = ctx.store->list(state, limit, cursor);
+    nlohmann::json out = {{"jobs", nlohmann::json::array()}, {"next_cursor", page.next_cursor.empty() ? nlohmann::json() : nlohmann::json(page.next_cursor)}};
+    for (const auto& j : page.jobs) out["jobs"].push_back(to_json(j));
+    send_json(res, 200, out);
+  });
+  const std::string job = std::string("/v1/jobs/") + kJobIdPattern;
+  http.Get(job, [&ctx](const httplib::Request& req, httplib::Response& res) {
+    if (auto j = job_or_404(ctx, req, res)) send_json(res, 200, to_json(*j));
+  });
+  http.Delete(job, [&ctx](const httplib::Request& req, httplib::Response& res) {
+    auto j = job_or_404(ctx, req, res);
+    if (!j) return;
+    if (!is_finished(j->state)) {
+      ctx.store->request_cancel(j->id);
+      ctx.scheduler->cancel(j->id);
+      log::info("job cancel requested", {{"job", j->id}});
+      return send_json(res, 202, to_json(*ctx.store->get(j->id)));
+    }
+    std::error_code ec;
+    fs::remove_all(ctx.data->job(j->id), ec);
+    ctx.store->remove(j->id);
+    log::info("job deleted", {{"job", j->id}});
+    res.status = 204;
+  });
+  http.Get(job + "/result", [&ctx](const httplib::Request& req, httplib::Response& res) {
+    serve_output(ctx, req, res, "result.glb", "model/gltf-binary");
+  });
+  http.Get(job + "/diagnostics", [&ctx](const httplib::Request& req, httplib::Response& res) {
+    serve_output(ctx, req, res, "diagnostics.json", "application/json");
+  });
+  http.Get(job + "/uv-layout.png", [&ctx](const httplib::Request& req, httplib::Response& res) {
+    serve_output(ctx, req, res, "uv-layout.png", "image/png");
+  });
+  http.Get(job + "/proxy.glb", [&ctx](const httplib::Request& req, httplib::Response& res) {
+    serve_output(ctx, req, res, "proxy.glb", "model/gltf-binary");
+  });
+  http.Get(job + "/field-lines.glb", [&ctx](const httplib::Request& req, httplib::Response& res) {
+    serve_output(ctx, req, res, "field-lines.glb", "model/gltf-binary");
+  });
+  http.Get("/v1/params", [&ctx](const httplib::Request&, httplib::Response& res) {
+    send_json(res, 200, {{"params", describe_params(ctx.caps)}, {"max_upload_bytes", ctx.config.max_upload_bytes}});
+  });
+  http.Get("/v1/openapi.yaml", [&ctx](const httplib::Request&, httplib::Response& res) {
+    if (ctx.openapi_yaml.empty()) return set_problem(res, 404, "not-found", "openapi.yaml is not installed");
+    res.set_content(ctx.openapi_yaml, "application/yaml");
+  });
+
+  // ---- operations ---------------------------------------------------------
+  http.Get("/healthz", [](const httplib::Request&, httplib::Response& res) {
+    res.set_content("{\"status\":\"ok\"}", "application/json");
+  });
+  http.Get("/readyz", [&ctx](const httplib::Request&, httplib::Response& res) {
+    nlohmann::json checks = {{"worker_binary", !ctx.worker_bin.empty()},
+                             {"data_dir_writable", access(ctx.data->root().c_str(), W_OK) == 0},
+                             {"queue_has_room", ctx.scheduler->has_room()}};
+    bool ok = checks["worker_binary"].get<bool>() && checks["data_dir_writable"].get<bool>();
+    send_json(res, ok ? 200 : 503, {{"status", ok ? "ready" : "not ready"}, {"checks", checks}});
+  });
+  http.Get("/metrics", [&ctx](const httplib::Request&, httplib::Response& res) {
+    std::map<std::string, double> gauges;
+    for (const auto& [state, n] : ctx.store->count_by_state()) gauges["jobs:" + state] = double(n);
+    gauges["queue_depth"] = double(ctx.scheduler->queue_depth());
+    gauges["queue_capacity"] = ctx.config.queue_capacity;
+    gauges["workers_busy"] = ctx.scheduler->busy_workers();
+    gauges["workers"] = ctx.config.workers;
+    res.set_content(ctx.metrics.render(gauges), "text/plain; version=0.0.4");
+  });
+
+  // ---- upload page ----------------------------------------------------------
+  http.Get("/(|assets/.*)", [&ctx](const httplib::Request& req, httplib::Response& res) {
+    auto it = ctx.web.find(req.path);
+    if (it == ctx.web.end()) return set_problem(res, 404, "not-found", "no such page");
+    res.set_header("Cache-Control", "no-cache");
+    res.set_content(it->second.bytes, it->second.content_type);
+  });
+}
+
+}  // namespace soupuv::server

@@ -1,0 +1,285 @@
+#include "soupuv/server/scheduler.h"
+
+#include <signal.h>
+
+#include <algorithm>
+#include <cctype>
+#include <cmath>
+#include <filesystem>
+
+#include "soupuv/server/log.h"
+#include "soupuv/server/worker_process.h"
+
+namespace soupuv::server {
+namespace fs = std::filesystem;
+namespace {
+
+// Result files a worker may produce, in the job's work/ directory.
+const std::vector<std::string>& output_names() {
+  static const std::vector<std::string> names = {"result.glb", "diagnostics.json", "uv-layout.png",
+                                                 "proxy.glb", "field-lines.glb"};
+  return names;
+}
+
+// Stage names come from the worker; keep them safe as metric labels and JSON.
+std::string clean_stage(const std::string& s) {
+  std::string out;
+  for (char c : s.substr(0, 48))
+    out += (std::isalnum(static_cast<unsigned char>(c)) || c == '_' || c == '-') ? c : '_';
+  return out;
+}
+
+}  // namespace
+
+WorkerVerdict classify_outcome(const ProcessOutcome& o, const std::string& reason, const Config& config) {
+  if (!o.started) return {JobState::failed, JobError{"worker_unavailable", 503, o.start_error}};
+  if (o.canceled) return {JobState::canceled, std::nullopt};
+  if (o.timed_out)
+    return {JobState::failed,
+            JobError{"timeout", 504, "job exceeded its wall-clock limit of " +
+                                         std::to_string(config.job_timeout_s) + " s"}};
+  if (o.signal != 0) {
+    if (o.signal == SIGXCPU || o.signal == SIGKILL)
+      return {JobState::failed, JobError{"resource_limit", 500,
+                                         "worker stopped by signal " + std::to_string(o.signal) +
+                                             " (CPU-time or memory limit)"}};
+    return {JobState::failed, JobError{"crashed", 500, "worker crashed with signal " + std::to_string(o.signal)}};
+  }
+  if (o.exit_code == 0) return {JobState::succeeded, std::nullopt};
+  if (o.exit_code == 130) return {JobState::canceled, std::nullopt};
+  std::string detail = reason.empty() ? "worker exited with code " + std::to_string(o.exit_code) : reason;
+  // The CLI's exit codes mirror soupuv::ErrorCode (see `soupuv --help`); the
+  // reason text is the loader's/pipeline's own sentence.
+  switch (o.exit_code) {
+    case 2: return {JobState::failed, JobError{"invalid_input", 400, detail}};
+    case 3: return {JobState::failed, JobError{"unsupported", 422, detail}};
+    case 4: return {JobState::failed, JobError{"limit_exceeded", 413, detail}};
+    case 5: return {JobState::failed, JobError{"no_triangles", 422, detail}};
+    case 6: return {JobState::failed, JobError{"not_built", 501, detail}};
+    case 127: return {JobState::failed, JobError{"worker_unavailable", 503, detail}};
+    default: return {JobState::failed, JobError{"internal", 500, detail}};
+  }
+}
+
+Scheduler::Scheduler(const Config& config, std::string worker_bin, WorkerCapabilities caps,
+                     JobStore& store, const DataDir& data, Metrics& metrics)
+    : config_(config), worker_bin_(std::move(worker_bin)), caps_(std::move(caps)), store_(store),
+      data_(data), metrics_(metrics) {}
+
+Scheduler::~Scheduler() { stop(); }
+
+void Scheduler::start() {
+  for (int i = 0; i < config_.workers; ++i) threads_.emplace_back([this] { worker_loop(); });
+}
+
+void Scheduler::stop() {
+  {
+    std::lock_guard lock(mu_);
+    if (stopping_ && threads_.empty()) return;
+    stopping_ = true;
+    for (auto& [id, flag] : running_) flag->store(true);
+  }
+  cv_.notify_all();
+  for (auto& t : threads_)
+    if (t.joinable()) t.join();
+  threads_.clear();
+}
+
+Scheduler::Enqueue Scheduler::enqueue(const std::string& id) {
+  {
+    std::lock_guard lock(mu_);
+    if (stopping_) return Enqueue::stopping;
+    if (int(queue_.size()) >= config_.queue_capacity) return Enqueue::full;
+    queue_.push_back(id);
+  }
+  cv_.notify_one();
+  return Enqueue::accepted;
+}
+
+bool Scheduler::has_room() const {
+  std::lock_guard lock(mu_);
+  return !stopping_ && int(queue_.size()) < config_.queue_capacity;
+}
+
+size_t Scheduler::recover() {
+  auto jobs = store_.unfinished();
+  {
+    std::lock_guard lock(mu_);
+    for (const auto& j : jobs) queue_.push_back(j.id);
+  }
+  cv_.notify_all();
+  for (const auto& j : jobs)
+    log::info("job recovered", {{"job", j.id}, {"was", to_string(j.state)}, {"attempts", j.attempts}});
+  return jobs.size();
+}
+
+bool Scheduler::cancel(const std::string& id) {
+  std::lock_guard lock(mu_);
+  for (auto it = queue_.begin(); it != queue_.end(); ++it)
+    if (*it == id) {
+      queue_.erase(it);
+      store_.finish(id, JobState::canceled, std::nullopt, {}, now_seconds());
+      metrics_.job_finished("canceled");
+      return true;
+    }
+  auto r = running_.find(id);
+  if (r != running_.end()) {
+    r->second->store(true);
+    return true;
+  }
+  return false;
+}
+
+size_t Scheduler::queue_depth() const {
+  std::lock_guard lock(mu_);
+  return queue_.size();
+}
+
+int Scheduler::busy_workers() const {
+  std::lock_guard lock(mu_);
+  return int(running_.size());
+}
+
+void Scheduler::worker_loop() {
+  for (;;) {
+    std::string id;
+    {
+      std::unique_lock lock(mu_);
+      cv_.wait(lock, [&] { return stopping_ || !queue_.empty(); });
+      if (stopping_) return;
+      id = queue_.front();
+      queue_.pop_front();
+      running_[id] = std::make_shared<std::atomic<bool>>(false);
+    }
+    try {
+      run_job(id);
+    } catch (const std::exception& e) {
+      log::error("job supervision failed", {{"job", id}, {"error", e.what()}});
+      store_.finish(id, JobState::failed, JobError{"internal", 500, "server error while running the job"},
+                    {}, now_seconds());
+    }
+    std::lock_guard lock(mu_);
+    running_.erase(id);
+  }
+}
+
+void Scheduler::run_job(const std::string& id) {
+  auto job = store_.get(id);
+  if (!job || is_finished(job->state)) return;
+  std::shared_ptr<std::atomic<bool>> cancel;
+  {
+    std::lock_guard lock(mu_);
+    cancel = running_[id];
+  }
+  if (job->cancel_requested) {
+    store_.finish(id, JobState::canceled, std::nullopt, {}, now_seconds());
+    metrics_.job_finished("canceled");
+    return;
+  }
+  const fs::path dir = data_.job(id);
+  const fs::path work = dir / "work";
+  fs::remove_all(work);  // a re-run after restart starts clean: jobs are idempotent
+  fs::create_directories(work);
+  store_.mark_running(id, now_seconds());
+  log::info("job started", {{"job", id}, {"attempt", job->attempts + 1}});
+
+  std::vector<std::string> argv = {worker_bin_, "map", (dir / job->input_file).string(), "-o",
+                                   (work / "result.glb").string()};
+  auto add = [&](const std::string& flag, const std::string& value) {
+    if (!caps_.has(flag)) return;
+    argv.push_back(flag);
+    if (!value.empty()) argv.push_back(value);
+  };
+  add("--diagnostics", (work / "diagnostics.json").string());
+  add("--progress", "json");
+  add("--uv-layout", (work / "uv-layout.png").string());
+  add("--threads", std::to_string(config_.threads_per_job()));
+  add("--cache-dir", data_.cache().string());
+  add("--cache-size-mb", std::to_string(config_.cache_size_mb));
+  if (job->params.value("debug_outputs", false)) add("--debug-dir", work.string());
+  for (const char* tex : {"texture.png", "texture.jpg"})
+    if (fs::exists(dir / tex)) add("--texture", (dir / tex).string());
+  for (auto& f : params_to_flags(job->params, caps_)) argv.push_back(f);
+
+  ProcessLimits limits;
+  limits.address_space_bytes = config_.worker_memory_mb << 20;
+  limits.wall_seconds = config_.job_timeout_s;
+  // CPU time is summed over threads: allow the wall budget on every thread.
+  limits.cpu_seconds = int64_t(config_.job_timeout_s) * config_.threads_per_job() + 10;
+  std::vector<std::string> env = {"OMP_NUM_THREADS=" + std::to_string(config_.threads_per_job())};
+
+  std::string stage, last_reason;
+  double stage_started = now_seconds(), last_write = 0;
+  nlohmann::json stage_seconds = nlohmann::json::object();
+  auto on_line = [&](const std::string& line) {
+    if (line.rfind("soupuv: ", 0) == 0) {
+      last_reason = line.substr(8, 500);
+      return;
+    }
+    auto j = nlohmann::json::parse(line, nullptr, false);
+    if (!j.is_object() || !j.contains("stage") || !j["stage"].is_string()) return;
+    std::string s = clean_stage(j["stage"].get<std::string>());
+    double f = j.value("fraction", 0.0);
+    if (!std::isfinite(f)) f = 0;
+    double now = now_seconds();
+    if (s != stage) {
+      if (!stage.empty()) {
+        double secs = now - stage_started;
+        stage_seconds[stage] = stage_seconds.value(stage, 0.0) + secs;
+        metrics_.stage_seconds(stage, secs);
+      }
+      stage = s;
+      stage_started = now;
+      last_write = 0;  // a new stage is always worth recording
+    }
+    if (now - last_write >= 0.2) {  // progress is chatty; the store needs ~5 Hz at most
+      store_.update_progress(id, stage, std::clamp(f, 0.0, 1.0), stage_seconds);
+      last_write = now;
+    }
+  };
+  ProcessOutcome outcome = run_process(argv, env, limits, *cancel, on_line, (work / "stdout.log").string());
+  if (!stage.empty()) {
+    double secs = now_seconds() - stage_started;
+    stage_seconds[stage] = stage_seconds.value(stage, 0.0) + secs;
+    metrics_.stage_seconds(stage, secs);
+  }
+  write_file_atomic(dir / "worker.log", outcome.stderr_tail);
+
+  WorkerVerdict verdict = classify_outcome(outcome, last_reason, config_);
+  // Server shutdown is not a user's cancel: leave the job running so that the
+  // next start runs it again.
+  {
+    std::lock_guard lock(mu_);
+    if (stopping_ && verdict.state == JobState::canceled) {
+      auto fresh = store_.get(id);
+      if (fresh && !fresh->cancel_requested) return;
+    }
+  }
+  std::vector<std::string> outputs;
+  if (verdict.state == JobState::succeeded) {
+    if (!fs::exists(work / "result.glb")) {
+      verdict = {JobState::failed, JobError{"internal", 500, "worker exited 0 without writing a result"}};
+    } else {
+      for (const auto& name : output_names())
+        if (fs::exists(work / name)) {
+          commit_file(work / name, dir / name);
+          outputs.push_back(name);
+        }
+      if (fs::exists(dir / "diagnostics.json")) {
+        auto d = nlohmann::json::parse(read_file(dir / "diagnostics.json", 64 << 20), nullptr, false);
+        if (d.is_object() && d.contains("cache") && d["cache"].is_object() && d["cache"].contains("hits") &&
+            d["cache"]["hits"].is_number_integer())
+          metrics_.cache_hits(d["cache"]["hits"].get<int64_t>());
+      }
+    }
+  }
+  fs::remove_all(work);
+  store_.finish(id, verdict.state, verdict.error, outputs, now_seconds());
+  metrics_.job_finished(to_string(verdict.state));
+  nlohmann::json fields = {{"job", id}, {"state", to_string(verdict.state)}, {"seconds", outcome.seconds},
+                           {"stage_seconds", stage_seconds}};
+  if (verdict.error) fields["error"] = verdict.error->detail;
+  log::info("job finished", fields);
+}
+
+}  // namespace soupuv::server
