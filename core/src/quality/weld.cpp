@@ -32,7 +32,7 @@ uint64_t cell_key(int64_t x, int64_t y, int64_t z) {
 
 }  // namespace
 
-Weld weld_corners(const Soup& soup, double tolerance) {
+Weld weld_corners(const Soup& soup, double tolerance, double edge_fraction) {
   const size_t corners = soup.triangles.size() * 3;
   Weld w;
   if (corners == 0) return w;
@@ -51,6 +51,16 @@ Weld weld_corners(const Soup& soup, double tolerance) {
   double span = std::max({box.extent().x, box.extent().y, box.extent().z, 0.0});
   cell = std::max(cell, span / double(1 << 20));
 
+  // Per-triangle squared cap for edge_fraction: (fraction * shortest edge)^2.
+  std::vector<double> cap2;
+  if (edge_fraction > 0) {
+    cap2.resize(soup.triangles.size());
+    for (size_t t = 0; t < soup.triangles.size(); ++t) {
+      Vec3 a = soup.corner(t, 0), b = soup.corner(t, 1), c = soup.corner(t, 2);
+      double e = std::min({norm2(b - a), norm2(c - b), norm2(a - c)});
+      cap2[t] = edge_fraction * edge_fraction * e;
+    }
+  }
   std::unordered_map<uint64_t, std::vector<uint32_t>> grid;
   grid.reserve(corners);
   auto coord = [&](double v, double lo) { return int64_t(std::floor((v - lo) / cell)); };
@@ -72,7 +82,10 @@ Weld weld_corners(const Soup& soup, double tolerance) {
           for (uint32_t o : it->second) {
             if (o <= c) continue;
             Vec3 q = pos(o);
-            bool same = exact ? (p.x == q.x && p.y == q.y && p.z == q.z) : norm2(p - q) <= tol2;
+            double d2 = norm2(p - q);
+            bool same = exact ? (p.x == q.x && p.y == q.y && p.z == q.z) : d2 <= tol2;
+            if (same && !cap2.empty() && !exact)
+              same = d2 <= std::min(cap2[c / 3], cap2[o / 3]);
             if (same) uf.unite(uint32_t(c), o);
           }
         }

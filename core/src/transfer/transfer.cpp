@@ -15,6 +15,51 @@ Vec2 atlas_uv(const atlas::Atlas& atlas, const SurfacePoint& p) {
   return p.bary[0] * uv[0] + p.bary[1] * uv[1] + p.bary[2] * uv[2];
 }
 
+namespace {
+
+enum class Landing { hit, ray, closest };
+
+// First crossing of line i's polyline; else the ray along its last direction;
+// else the proxy point closest to `fallback`.
+SurfacePoint land_line(const TriangleBvh& bvh, const field::FieldLines& lines, size_t i,
+                       Vec3 fallback, double ray_length, Landing& how) {
+  const uint32_t b = lines.offsets[i], e = lines.offsets[i + 1];
+  SurfacePoint hit;
+  for (uint32_t j = b; j + 1 < e && !hit.found(); ++j)
+    hit = bvh.first_hit(lines.points[j], lines.points[j + 1]);
+  how = Landing::hit;
+  if (hit.found()) return hit;
+  if (e - b >= 2) {
+    Vec3 last = lines.points[e - 1];
+    Vec3 dir = normalized(last - lines.points[e - 2]);
+    hit = bvh.first_hit(last, last + ray_length * dir);
+  }
+  how = Landing::ray;
+  if (hit.found()) return hit;
+  how = Landing::closest;
+  return bvh.closest_point(fallback);
+}
+
+double ray_length_for(const TriMesh& mesh) {
+  Box3 box;
+  for (const Vec3& v : mesh.vertices) box.add(v);
+  return 4 * box.diagonal() + 1e-12;
+}
+
+}  // namespace
+
+std::vector<SurfacePoint> land_lines(const field::FieldLines& lines,
+                                     const std::vector<Vec3>& fallback_points,
+                                     const proxy::ProxyMesh& proxy) {
+  TriangleBvh bvh(proxy.mesh);
+  const double ray_length = ray_length_for(proxy.mesh);
+  std::vector<SurfacePoint> out(lines.size());
+  Landing how;
+  for (size_t i = 0; i < lines.size(); ++i)
+    out[i] = land_line(bvh, lines, i, fallback_points[i], ray_length, how);
+  return out;
+}
+
 nlohmann::json TransferResult::diagnostics() const {
   return {{"lines", lines},
           {"hits", hits},
@@ -41,9 +86,7 @@ TransferResult transfer_uvs(const Soup& soup, const field::FieldLines& lines,
 
   progress.update("transfer", 0);
   TriangleBvh bvh(mesh);
-  Box3 pbox;
-  for (const Vec3& v : mesh.vertices) pbox.add(v);
-  const double ray_length = 4 * pbox.diagonal() + 1e-12;
+  const double ray_length = ray_length_for(mesh);
 
   const size_t corners = soup.triangles.size() * 3;
   TransferResult r;
@@ -61,26 +104,11 @@ TransferResult transfer_uvs(const Soup& soup, const field::FieldLines& lines,
     uint32_t c = lines.corner[i];
     if (c >= corners) continue;  // checked below: no line may name a missing corner
     has_line[c] = 1;
-    const uint32_t b = lines.offsets[i], e = lines.offsets[i + 1];
-    SurfacePoint hit;
-    for (uint32_t j = b; j + 1 < e && !hit.found(); ++j)
-      hit = bvh.first_hit(lines.points[j], lines.points[j + 1]);
-    if (hit.found()) {
-      ++hits;
-    } else {
-      if (e - b >= 2) {
-        Vec3 last = lines.points[e - 1];
-        Vec3 dir = normalized(last - lines.points[e - 2]);
-        hit = bvh.first_hit(last, last + ray_length * dir);
-      }
-      if (hit.found()) {
-        ++ray;
-      } else {
-        hit = bvh.closest_point(soup.corner(c / 3, c % 3));
-        ++closest;
-      }
-    }
-    r.landing[c] = hit;
+    Landing how;
+    r.landing[c] = land_line(bvh, lines, size_t(i), soup.corner(c / 3, c % 3), ray_length, how);
+    if (how == Landing::hit) ++hits;
+    else if (how == Landing::ray) ++ray;
+    else ++closest;
     size_t d = ++done;
     if ((d & 4095) == 0 && omp_get_thread_num() == 0) {
       try {

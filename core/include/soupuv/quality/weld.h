@@ -23,7 +23,10 @@ struct Weld {
   uint32_t vertex_count = 0;
 };
 
-Weld weld_corners(const Soup& soup, double tolerance);
+// edge_fraction > 0 additionally refuses to weld two corners farther apart
+// than edge_fraction times the shortest edge of either corner's triangle, so
+// a tolerance close to the edge length cannot collapse whole regions.
+Weld weld_corners(const Soup& soup, double tolerance, double edge_fraction = 0);
 
 // Two triangles that share an edge: corner a_corner[i] of triangle a and
 // corner b_corner[i] of triangle b are the same welded vertex (i = 0, 1).

@@ -39,6 +39,27 @@ class TriangleBvh {
   // Closest point of any face to p; t of the result is the distance.
   SurfacePoint closest_point(Vec3 p) const;
 
+  // Calls f(face) for every face whose bounding box overlaps `box`.
+  template <class F>
+  void for_each_overlap(const Box3& box, F&& f) const {
+    if (nodes_.empty()) return;
+    uint32_t stack[64];
+    int top = 0;
+    stack[top++] = 0;
+    while (top > 0) {
+      const Node& n = nodes_[stack[--top]];
+      if (n.box.hi.x < box.lo.x || n.box.lo.x > box.hi.x || n.box.hi.y < box.lo.y ||
+          n.box.lo.y > box.hi.y || n.box.hi.z < box.lo.z || n.box.lo.z > box.hi.z)
+        continue;
+      if (n.count > 0) {
+        for (uint32_t i = n.first; i < n.first + n.count; ++i) f(faces_[i]);
+      } else if (top + 2 <= 64) {
+        stack[top++] = n.left;
+        stack[top++] = n.right;
+      }
+    }
+  }
+
   size_t size() const { return faces_.size(); }
 
  private:

@@ -1,0 +1,88 @@
+// run_map: the one call the CLI and the server worker make — a loaded asset in,
+// three UVs per soup triangle and the diagnostics out (paper Fig. 3).
+//
+//   soup ──┬─► [refine intersections] ─► charge ─► trace (+ side choice) ─┐
+//          │                                                               ├─► transfer ─► UVs ─► metrics
+//          └─► proxy ─► atlas ─────────────────────────────────────────────┘
+//
+// The two branches run on two threads, each with half the thread budget.
+// Charges and field lines are cached by (soup geometry, field parameters,
+// algorithm version): a re-run with other proxy or atlas parameters reuses
+// them — the monopole field does not depend on the proxy (§9).
+//
+// method = box runs the tri-planar baseline instead, through the same metrics
+// and diagnostics, so the two methods can be compared field by field.
+//
+// Errors: soupuv::Error (no_triangles, invalid_input, canceled through
+// progress, internal); the diagnostics of a failed run are not returned.
+#pragma once
+
+#include <array>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "soupuv/atlas/atlas.h"
+#include "soupuv/atlas/build_atlas.h"
+#include "soupuv/field/field.h"
+#include "soupuv/io/asset.h"
+#include "soupuv/progress.h"
+#include "soupuv/proxy/proxy.h"
+#include "soupuv/transfer/transfer.h"
+
+namespace soupuv {
+
+namespace cache { class Store; }
+
+enum class MapMethod { field, box };
+
+struct MapOptions {
+  MapMethod method = MapMethod::field;
+  proxy::ProxyOptions proxy;
+  atlas::AtlasOptions atlas;
+  field::ChargeOptions charge;
+  field::TraceOptions trace;
+  transfer::TransferOptions transfer;
+
+  // §12.1: split soup triangles along their intersections before charging.
+  bool refine_intersections = true;
+  // §12.4: one traced side per welded component (transfer/orient.h).
+  bool orient_sides = true;
+  // Welding for the neighbour graph (orientation, continuity when no original
+  // is given): corners closer than weld_tolerance * bounding-box diagonal, and
+  // closer than weld_edge_fraction * their triangles' shortest edge.
+  double weld_tolerance = 2e-3;
+  double weld_edge_fraction = 0.3;
+
+  int threads = 0;             // total budget; 0 = OpenMP default
+  cache::Store* cache = nullptr;  // shared, thread-safe; nullptr = no cache
+
+  // Continuity reference: a welded mesh with the soup's triangle order
+  // (e.g. NAME-soup.original.glb); nullptr = weld the soup.
+  const Soup* original = nullptr;
+  int metrics_texture_size = 1024;
+
+  bool keep_debug = false;     // fill MapResult::debug (proxy, atlas, lines)
+};
+
+struct MapDebug {
+  proxy::ProxyMesh proxy;
+  atlas::Atlas atlas;
+  field::FieldLines lines;
+};
+
+struct MapResult {
+  std::vector<Vec2> corner_uvs;   // 3 per soup triangle (glTF convention)
+  nlohmann::json diagnostics;     // proto/diagnostics.schema.json
+  MapDebug debug;                 // when keep_debug
+};
+
+MapResult run_map(const io::Asset& asset, const MapOptions& options,
+                  Progress& progress = Progress::none());
+
+// Same, for a bare soup (tests, benchmarks).
+MapResult run_map(const Soup& soup, const MapOptions& options,
+                  Progress& progress = Progress::none());
+
+}  // namespace soupuv

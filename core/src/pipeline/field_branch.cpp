@@ -1,0 +1,257 @@
+#include "pipeline/field_branch.h"
+
+#include <chrono>
+#include <sstream>
+
+#include "pipeline/field_codec.h"
+#include "soupuv/cache/bytes.h"
+#include "soupuv/quality/weld.h"
+#include "soupuv/transfer/intersect.h"
+#include "soupuv/transfer/orient.h"
+
+namespace soupuv::pipeline {
+
+namespace {
+
+double since(std::chrono::steady_clock::time_point t0) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+}
+
+// Every option that changes the result (threads do not), for cache keys.
+std::string charge_params(const field::ChargeOptions& o) {
+  std::ostringstream s;
+  s.precision(17);
+  s << "solver=" << int(o.solver) << " tol=" << o.tolerance << " q=" << o.quadrature_degree
+    << " p=" << o.fmm_order << " theta=" << o.fmm_theta << " refine=" << o.refine_area_ratio
+    << " maxit=" << o.max_iterations << " maxs=" << o.max_seconds
+    << " direct=" << o.direct_initialization;
+  return s.str();
+}
+
+std::string trace_params(const FieldBranchOptions& b) {
+  const field::TraceOptions& o = b.trace;
+  std::ostringstream s;
+  s.precision(17);
+  s << "int=" << int(o.integrator) << " steps=" << o.max_steps << " step=" << o.step
+    << " eps=" << o.start_offset << " stop=" << o.stop_radius << " p=" << o.fmm_order
+    << " theta=" << o.fmm_theta << " keep=" << o.keep_points << " orient=" << b.orient_sides
+    << " weld=" << b.weld_tolerance << " edge=" << b.weld_edge_fraction;
+  return s.str();
+}
+
+nlohmann::json charge_json(const field::ChargeResult& c) {
+  return {{"solver", c.solver},
+          {"iterations", c.iterations},
+          {"converged", c.converged},
+          {"max_rel_potential_error", c.max_rel_potential_error},
+          {"verified_by", c.verified_by},
+          {"source_triangles", c.source_triangles},
+          {"refined_triangles", c.refined_triangles},
+          {"solve_seconds", c.solve_seconds},
+          {"history", c.history},
+          {"history_seconds", c.history_seconds},
+          {"history_iterations", c.history_iterations},
+          {"warnings", c.warnings}};
+}
+
+void add_stats(nlohmann::json& j, const field::TraceStats& s) {
+  auto add = [&](const char* k, double v) { j[k] = j.value(k, 0.0) + v; };
+  add("seconds", s.seconds);
+  add("build_seconds", s.build_seconds);
+  add("evaluations", double(s.evaluations));
+  add("steps", double(s.steps));
+  add("escaped", double(s.escaped));
+  add("step_limit", double(s.step_limit));
+  add("stalled", double(s.stalled));
+}
+
+// Lines for the corners in `seeds` replace those of `base` (same corner).
+field::FieldLines merge_lines(const field::FieldLines& base, const field::FieldLines& fresh) {
+  std::vector<int64_t> replacement(base.size(), -1);
+  std::vector<int64_t> line_of_corner;
+  for (size_t i = 0; i < base.size(); ++i) {
+    if (base.corner[i] >= line_of_corner.size()) line_of_corner.resize(base.corner[i] + 1, -1);
+    line_of_corner[base.corner[i]] = int64_t(i);
+  }
+  for (size_t j = 0; j < fresh.size(); ++j)
+    if (fresh.corner[j] < line_of_corner.size() && line_of_corner[fresh.corner[j]] >= 0)
+      replacement[line_of_corner[fresh.corner[j]]] = int64_t(j);
+  field::FieldLines out;
+  for (size_t i = 0; i < base.size(); ++i) {
+    const field::FieldLines& src = replacement[i] >= 0 ? fresh : base;
+    size_t k = replacement[i] >= 0 ? size_t(replacement[i]) : i;
+    out.points.insert(out.points.end(), src.points.begin() + src.offsets[k],
+                      src.points.begin() + src.offsets[k + 1]);
+    out.offsets.push_back(uint32_t(out.points.size()));
+    out.ends.push_back(src.ends[k]);
+    out.corner.push_back(src.corner[k]);
+  }
+  return out;
+}
+
+}  // namespace
+
+FieldBranchResult run_field_branch(const Soup& soup, const std::string& soup_hash,
+                                   const FieldBranchOptions& options, cache::Store* cache,
+                                   Progress& progress) {
+  FieldBranchResult r;
+  field::ChargeOptions charge_options = options.charge;
+  charge_options.threads = options.threads;
+  field::TraceOptions trace_options = options.trace;
+  trace_options.threads = options.threads;
+
+  // Charges: cached by the soup, the refinement switch and the charge options.
+  const std::string charge_key =
+      cache::cache_key({"charges", kFieldCacheVersion, soup_hash,
+                        options.refine_intersections ? "refine" : "plain", charge_params(charge_options)});
+  const std::string lines_key =
+      cache::cache_key({"lines", kFieldCacheVersion, charge_key, trace_params(options)});
+
+  if (cache) {
+    if (auto hit = cache->get(lines_key)) {
+      // The lines carry everything downstream needs; charges are not even read.
+      r.lines = decode_lines(*hit);
+      if (auto probes = cache->get(lines_key + ".probes")) {
+        cache::ByteReader rd(*probes);
+        r.probes = rd.get_vector<transfer::CutProbe>();
+        r.probe_lines = decode_lines(rd.get_vector<uint8_t>());
+      }
+      r.lines_cached = r.charges_cached = true;
+      if (auto meta = cache->get(lines_key + ".json")) {
+        auto j = nlohmann::json::parse(meta->begin(), meta->end());
+        r.charge = j["charge"];
+        r.trace = j["trace"];
+        r.orient = j["orient"];
+        r.intersections = j["intersections"];
+      }
+      r.trace["cached"] = true;
+      r.charge["cached"] = true;
+      return r;
+    }
+  }
+
+  field::ChargeResult charges;
+  std::shared_ptr<const cache::Bytes> cached_charges = cache ? cache->get(charge_key) : nullptr;
+  if (cached_charges) {
+    charges = decode_charges(*cached_charges);
+    r.charges_cached = true;
+    if (auto meta = cache->get(charge_key + ".json"))
+      r.intersections = nlohmann::json::parse(meta->begin(), meta->end());
+    if (auto probes = cache->get(charge_key + ".probes")) {
+      cache::ByteReader rd(*probes);
+      r.probes = rd.get_vector<transfer::CutProbe>();
+    }
+  } else {
+    auto t0 = std::chrono::steady_clock::now();
+    const Soup* charged = &soup;
+    transfer::IntersectionRefinement refinement;
+    if (options.refine_intersections) {
+      refinement = transfer::refine_intersections(soup, progress);
+      charged = &refinement.soup;
+      r.intersections = refinement.diagnostics();
+      r.probes = refinement.probes;
+    }
+    r.seconds_refine = since(t0);
+    r.intersections["seconds"] = r.seconds_refine;
+    auto t1 = std::chrono::steady_clock::now();
+    charges = field::solve_charges(*charged, charge_options, progress);
+    r.seconds_charge = since(t1);
+    if (cache) {
+      cache->put(charge_key, encode(charges));
+      std::string meta = r.intersections.dump();
+      cache->put(charge_key + ".json", cache::Bytes(meta.begin(), meta.end()));
+      cache::ByteWriter w;
+      w.put_vector(r.probes);
+      cache->put(charge_key + ".probes", w.take());
+    }
+  }
+  r.charge = charge_json(charges);
+  r.charge["cached"] = r.charges_cached;
+  r.warnings.insert(r.warnings.end(), charges.warnings.begin(), charges.warnings.end());
+
+  // Trace every original corner with the |E| rule, then retrace the corners
+  // whose side disagrees with their component's (§12.4).
+  auto t2 = std::chrono::steady_clock::now();
+  std::vector<field::TraceSeed> seeds = field::corner_seeds(soup);
+  field::TraceStats stats;
+  field::FieldLines lines = field::trace_field_lines(charges, seeds, trace_options, progress, &stats);
+  r.trace = nlohmann::json::object();
+  add_stats(r.trace, stats);
+  if (options.orient_sides) {
+    auto adjacency = quality::edge_adjacency(
+        quality::weld_corners(soup, options.weld_tolerance, options.weld_edge_fraction),
+        soup.triangles.size());
+    transfer::Orientation orientation = transfer::consistent_orientation(soup, adjacency);
+    transfer::SideChoice sides = transfer::component_sides(soup, orientation, lines);
+    std::vector<field::TraceSeed> again;
+    for (size_t i = 0; i < lines.size(); ++i) {
+      uint32_t c = lines.corner[i];
+      int want = sides.triangle_side[c / 3];
+      if (transfer::line_side(soup, lines, i) != want) {
+        field::TraceSeed s = seeds[c];
+        s.side = want;
+        again.push_back(s);
+      }
+    }
+    if (!again.empty()) {
+      field::TraceStats more;
+      field::FieldLines fresh = field::trace_field_lines(charges, again, trace_options, progress, &more);
+      add_stats(r.trace, more);
+      lines = merge_lines(lines, fresh);
+    }
+    r.orient = {{"components", orientation.components},
+                {"flipped_triangles", orientation.flipped_triangles},
+                {"conflicting_edges", orientation.conflicting_edges},
+                {"adjacent_pairs", adjacency.size()},
+                {"retraced_corners", again.size()},
+                {"mixed_side_triangles_before", sides.mixed_triangles_before},
+                {"mixed_side_triangles_after", transfer::mixed_side_triangles(soup, lines)}};
+  } else {
+    size_t mixed = transfer::mixed_side_triangles(soup, lines);
+    r.orient = {{"enabled", false},
+                {"mixed_side_triangles_before", mixed},
+                {"mixed_side_triangles_after", mixed}};
+  }
+  // Probe points inside the kept piece of each cut triangle, traced on that
+  // triangle's side.
+  if (!r.probes.empty()) {
+    std::vector<int8_t> triangle_side(soup.triangles.size(), 0);  // the side its lines took
+    for (size_t l = 0; l < lines.size(); ++l)
+      if (lines.corner[l] / 3 < soup.triangles.size())
+        triangle_side[lines.corner[l] / 3] = int8_t(transfer::line_side(soup, lines, l));
+    std::vector<field::TraceSeed> probe_seeds;
+    for (size_t i = 0; i < r.probes.size(); ++i) {
+      uint32_t t = r.probes[i].triangle;
+      int side = triangle_side[t];
+      for (int k = 0; k < 3; ++k) {
+        field::TraceSeed s;
+        s.position = r.probes[i].points[k];
+        s.normal = triangle_normal(soup, t);
+        s.side = side;
+        s.corner = uint32_t(3 * i + k);
+        probe_seeds.push_back(s);
+      }
+    }
+    field::TraceStats more;
+    r.probe_lines = field::trace_field_lines(charges, probe_seeds, trace_options, progress, &more);
+    add_stats(r.trace, more);
+  }
+  r.trace["probe_lines"] = r.probe_lines.size();
+  r.seconds_trace = since(t2);
+  r.lines = std::move(lines);
+  r.trace["cached"] = false;
+  if (cache) {
+    cache->put(lines_key, encode(r.lines));
+    nlohmann::json meta = {{"charge", r.charge}, {"trace", r.trace}, {"orient", r.orient},
+                           {"intersections", r.intersections}};
+    std::string m = meta.dump();
+    cache->put(lines_key + ".json", cache::Bytes(m.begin(), m.end()));
+    cache::ByteWriter w;
+    w.put_vector(r.probes);
+    w.put_vector(encode(r.probe_lines));
+    cache->put(lines_key + ".probes", w.take());
+  }
+  return r;
+}
+
+}  // namespace soupuv::pipeline

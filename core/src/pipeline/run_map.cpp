@@ -1,0 +1,252 @@
+#include "soupuv/pipeline.h"
+
+#include <omp.h>
+
+#include <chrono>
+#include <exception>
+#include <thread>
+
+#include "pipeline/field_branch.h"
+#include "soupuv/baseline/box_projection.h"
+#include "soupuv/cache/store.h"
+#include "soupuv/errors.h"
+#include "soupuv/quality/uv_metrics.h"
+#include "soupuv/transfer/intersect.h"
+
+namespace soupuv {
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+double since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
+
+// A Progress for one branch: forwards to the caller's (which may throw
+// canceled) and has its own cancel token, so a failing branch can stop its
+// sibling without touching the caller's token.
+Progress child_of(Progress& parent) {
+  return Progress([&parent](std::string_view stage, double f) { parent.update(stage, f); });
+}
+
+struct ProxyBranch {
+  proxy::ProxyResult proxy;
+  atlas::AtlasResult atlas;
+  double seconds_proxy = 0, seconds_atlas = 0;
+};
+
+ProxyBranch run_proxy_branch(const Soup& soup, const MapOptions& options, int threads,
+                             Progress& progress) {
+  ProxyBranch b;
+  proxy::ProxyOptions po = options.proxy;
+  po.threads = threads;
+  auto t0 = Clock::now();
+  b.proxy = proxy::build_proxy(soup, po, progress);
+  b.seconds_proxy = since(t0);
+  atlas::AtlasOptions ao = options.atlas;
+  ao.threads = threads;
+  auto t1 = Clock::now();
+  b.atlas = atlas::build_atlas(b.proxy.proxy.mesh, ao, progress);
+  b.seconds_atlas = since(t1);
+  return b;
+}
+
+quality::UvMetrics measure(const Soup& soup, const std::vector<std::array<Vec2, 3>>& uvs,
+                           const MapOptions& options, double uv_per_length, double& seconds) {
+  auto t0 = Clock::now();
+  const double diag = bounding_box(soup).diagonal();
+  auto adjacency = options.original
+                       ? quality::metric_adjacency(soup, options.original, 0)
+                       : quality::edge_adjacency(
+                             quality::weld_corners(soup, options.weld_tolerance * diag,
+                                                   options.weld_edge_fraction),
+                             soup.triangles.size());
+  quality::UvMetricsOptions mo;
+  mo.texture_size = options.metrics_texture_size;
+  mo.uv_per_length = uv_per_length;
+  auto m = quality::uv_metrics(soup, uvs, adjacency, mo);
+  seconds = since(t0);
+  return m;
+}
+
+nlohmann::json soup_json(const Soup& soup, const std::string& hash) {
+  Box3 box = bounding_box(soup);
+  return {{"triangles", soup.triangles.size()},
+          {"positions", soup.positions.size()},
+          {"geometry_hash", hash},
+          {"bbox_diagonal", box.diagonal()}};
+}
+
+nlohmann::json cache_json(cache::Store* store, size_t hits, size_t misses) {
+  nlohmann::json j = {{"enabled", store != nullptr}, {"hits", hits}, {"misses", misses}};
+  if (store) {
+    auto s = store->stats();
+    j["store"] = {{"memory_hits", s.memory_hits}, {"disk_hits", s.disk_hits},
+                  {"misses", s.misses},           {"entries", s.entries},
+                  {"memory_bytes", s.memory_bytes}, {"directory", store->options().directory}};
+  }
+  return j;
+}
+
+MapResult run_box(const Soup& soup, const MapOptions& options, Progress& progress) {
+  auto t0 = Clock::now();
+  MapResult r;
+  const std::string hash = geometry_hash(soup);
+  baseline::BoxResult box = baseline::box_projection(soup, {}, progress);
+  std::vector<std::array<Vec2, 3>> uvs(soup.triangles.size());
+  for (size_t c = 0; c < box.corner_uvs.size(); ++c) uvs[c / 3][c % 3] = box.corner_uvs[c];
+  double metric_seconds = 0;
+  auto m = measure(soup, uvs, options, 0, metric_seconds);
+  r.corner_uvs = std::move(box.corner_uvs);
+  nlohmann::json& d = r.diagnostics;
+  d["method"] = "box";
+  d["soup"] = soup_json(soup, hash);
+  d["stages"] = {{"box", {{"seconds", box.seconds}}}, {"metrics", {{"seconds", metric_seconds}}}};
+  d["uv"] = quality::to_json(m);
+  d["cache"] = cache_json(nullptr, 0, 0);
+  d["warnings"] = soup.warnings;
+  d["seconds"] = since(t0);
+  return r;
+}
+
+}  // namespace
+
+MapResult run_map(const io::Asset& asset, const MapOptions& options, Progress& progress) {
+  MapResult r = run_map(asset.soup, options, progress);
+  r.diagnostics["soup"]["dropped_degenerate"] = asset.dropped_degenerate;
+  r.diagnostics["soup"]["skipped_primitives"] = asset.skipped_primitives;
+  return r;
+}
+
+MapResult run_map(const Soup& soup, const MapOptions& options, Progress& progress) {
+  if (soup.triangles.empty()) throw Error(ErrorCode::no_triangles, "the input has no triangles");
+  if (options.method == MapMethod::box) return run_box(soup, options, progress);
+
+  auto t0 = Clock::now();
+  const std::string hash = geometry_hash(soup);
+  const int total_threads = options.threads > 0 ? options.threads : omp_get_max_threads();
+  const int field_threads = std::max(1, total_threads / 2);
+  const int proxy_threads = std::max(1, total_threads - field_threads);
+  const double diag = bounding_box(soup).diagonal();
+
+  pipeline::FieldBranchOptions fo;
+  fo.charge = options.charge;
+  fo.trace = options.trace;
+  fo.refine_intersections = options.refine_intersections;
+  fo.orient_sides = options.orient_sides;
+  fo.weld_tolerance = options.weld_tolerance * diag;
+  fo.weld_edge_fraction = options.weld_edge_fraction;
+  fo.threads = field_threads;
+
+  // The two branches (paper Fig. 3): field on a second thread, proxy + atlas here.
+  Progress field_progress = child_of(progress);
+  Progress proxy_progress = child_of(progress);
+  pipeline::FieldBranchResult field;
+  std::exception_ptr field_error;
+  std::thread field_thread([&] {
+    try {
+      field = pipeline::run_field_branch(soup, hash, fo, options.cache, field_progress);
+    } catch (...) {
+      field_error = std::current_exception();
+      proxy_progress.cancel();
+    }
+  });
+  ProxyBranch pb;
+  std::exception_ptr proxy_error;
+  try {
+    pb = run_proxy_branch(soup, options, proxy_threads, proxy_progress);
+  } catch (...) {
+    proxy_error = std::current_exception();
+    field_progress.cancel();
+  }
+  field_thread.join();
+  progress.check_canceled();  // the caller's cancel wins over a branch's own error
+  // Report the root cause, not the sibling's "canceled".
+  if (field_error && proxy_error) {
+    try { std::rethrow_exception(field_error); }
+    catch (const Error& e) { if (e.code() == ErrorCode::canceled) std::rethrow_exception(proxy_error); throw; }
+  }
+  if (field_error) std::rethrow_exception(field_error);
+  if (proxy_error) std::rethrow_exception(proxy_error);
+
+  // Transfer: the branches meet.
+  transfer::TransferOptions to = options.transfer;
+  to.threads = total_threads;
+  auto t_transfer = Clock::now();
+  transfer::TransferResult tr =
+      transfer::transfer_uvs(soup, field.lines, pb.proxy.proxy, pb.atlas.atlas, to, progress);
+  size_t cut_corrected = 0;
+  if (!field.probes.empty()) {
+    std::vector<Vec3> starts;
+    for (const auto& p : field.probes) starts.insert(starts.end(), p.points.begin(), p.points.end());
+    std::vector<Vec3> ordered(field.probe_lines.size());
+    for (size_t i = 0; i < field.probe_lines.size(); ++i) ordered[i] = starts[field.probe_lines.corner[i]];
+    auto landing = transfer::land_lines(field.probe_lines, ordered, pb.proxy.proxy);
+    std::vector<Vec2> probe_uvs(starts.size(), Vec2{0, 0});
+    for (size_t i = 0; i < landing.size(); ++i)
+      probe_uvs[field.probe_lines.corner[i]] = transfer::atlas_uv(pb.atlas.atlas, landing[i]);
+    cut_corrected = transfer::apply_cut_probes(soup, field.probes, probe_uvs, tr.corner_uvs);
+  }
+  double seconds_transfer = since(t_transfer);
+
+  double metric_seconds = 0;
+  quality::UvMetrics m = measure(soup, tr.corner_uvs, options, pb.atlas.atlas.uv_per_length, metric_seconds);
+
+  MapResult r;
+  r.corner_uvs.reserve(3 * soup.triangles.size());
+  for (const auto& t : tr.corner_uvs) r.corner_uvs.insert(r.corner_uvs.end(), t.begin(), t.end());
+
+  nlohmann::json& d = r.diagnostics;
+  d["method"] = "field";
+  d["soup"] = soup_json(soup, hash);
+  d["threads"] = {{"total", total_threads}, {"field", field_threads}, {"proxy", proxy_threads}};
+  d["stages"] = {
+      {"intersections", {{"seconds", field.seconds_refine}}},
+      {"charge", {{"seconds", field.seconds_charge}, {"cached", field.charges_cached}}},
+      {"trace", {{"seconds", field.seconds_trace}, {"cached", field.lines_cached}}},
+      {"proxy", {{"seconds", pb.seconds_proxy}}},
+      {"atlas", {{"seconds", pb.seconds_atlas}}},
+      {"transfer", {{"seconds", seconds_transfer}}},
+      {"metrics", {{"seconds", metric_seconds}}}};
+  d["proxy"] = pb.proxy.diagnostics();
+  d["proxy"]["closed"] = pb.proxy.closed;
+  d["proxy"]["manifold"] = pb.proxy.manifold;
+  d["proxy"]["outer_components"] = pb.proxy.outer_components;
+  d["atlas"] = pb.atlas.diagnostics();
+  d["atlas"]["charts"] = pb.atlas.atlas.chart_count;
+  d["atlas"]["uv_per_length"] = pb.atlas.atlas.uv_per_length;
+  d["charge"] = field.charge;
+  d["trace"] = field.trace;
+  d["trace"]["lines"] = tr.lines;
+  d["trace"]["hits"] = tr.hits;
+  d["trace"]["hit_fraction"] = tr.hit_fraction();
+  d["trace"]["fallback"] = tr.fallback_ray + tr.fallback_closest;
+  d["trace"]["fallback_ray"] = tr.fallback_ray;
+  d["trace"]["fallback_closest"] = tr.fallback_closest;
+  d["trace"]["untraced_corners"] = tr.untraced_corners;
+  d["orient"] = field.orient;
+  d["intersections"] = field.intersections;
+  d["intersections"]["corrected_triangles"] = cut_corrected;
+  d["transfer"] = {{"multi_chart_triangles", tr.multi_chart_triangles},
+                   {"corrected_triangles", tr.corrected_triangles},
+                   {"cut_triangles_corrected", cut_corrected}};
+  d["uv"] = quality::to_json(m);
+  size_t hits = size_t(field.charges_cached) + size_t(field.lines_cached);
+  size_t misses = 2 - hits;
+  d["cache"] = cache_json(options.cache, options.cache ? hits : 0, options.cache ? misses : 0);
+  std::vector<std::string> warnings = soup.warnings;
+  warnings.insert(warnings.end(), field.warnings.begin(), field.warnings.end());
+  warnings.insert(warnings.end(), pb.proxy.warnings.begin(), pb.proxy.warnings.end());
+  warnings.insert(warnings.end(), pb.atlas.stats.warnings.begin(), pb.atlas.stats.warnings.end());
+  if (!pb.proxy.ok()) warnings.push_back("the proxy failed a check (see proxy.*)");
+  d["warnings"] = warnings;
+  d["seconds"] = since(t0);
+
+  if (options.keep_debug) {
+    r.debug.proxy = std::move(pb.proxy.proxy);
+    r.debug.atlas = std::move(pb.atlas.atlas);
+    r.debug.lines = std::move(field.lines);
+  }
+  progress.update("done", 1);
+  return r;
+}
+
+}  // namespace soupuv

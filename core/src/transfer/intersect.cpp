@@ -1,0 +1,216 @@
+#include "soupuv/transfer/intersect.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "soupuv/transfer/triangle_bvh.h"
+
+namespace soupuv::transfer {
+
+namespace {
+
+using Tri3 = std::array<Vec3, 3>;
+using Polygon = std::vector<Vec3>;
+
+struct Plane {
+  Vec3 n;      // unit normal
+  double d;    // n . x - d = signed distance
+  double at(Vec3 x) const { return dot(n, x) - d; }
+};
+
+Plane plane_of(const Tri3& t) {
+  Vec3 n = normalized(cross(t[1] - t[0], t[2] - t[0]));
+  return {n, dot(n, t[0])};
+}
+
+// Interval of the line parameter (along dir) where triangle t crosses plane p;
+// false if it does not cross.
+bool crossing_interval(const Tri3& t, const Plane& p, Vec3 dir, double& lo, double& hi) {
+  double d[3] = {p.at(t[0]), p.at(t[1]), p.at(t[2])};
+  lo = INFINITY;
+  hi = -INFINITY;
+  bool any = false;
+  for (int k = 0; k < 3; ++k) {
+    int k1 = (k + 1) % 3;
+    if (d[k] == 0) {
+      double s = dot(t[k], dir);
+      lo = std::min(lo, s); hi = std::max(hi, s); any = true;
+    }
+    if ((d[k] < 0 && d[k1] > 0) || (d[k] > 0 && d[k1] < 0)) {
+      Vec3 x = t[k] + (t[k1] - t[k]) * (d[k] / (d[k] - d[k1]));
+      double s = dot(x, dir);
+      lo = std::min(lo, s); hi = std::max(hi, s); any = true;
+    }
+  }
+  return any;
+}
+
+double polygon_area(const Polygon& p) {
+  Vec3 s{};
+  for (size_t i = 1; i + 1 < p.size(); ++i) s += cross(p[i] - p[0], p[i + 1] - p[0]);
+  return 0.5 * norm(s);
+}
+
+// Sutherland-Hodgman: the part of a convex polygon with plane.at(x) >= 0 (keep
+// = +1) or <= 0 (keep = -1).
+Polygon clip(const Polygon& poly, const Plane& plane, int keep) {
+  Polygon out;
+  for (size_t i = 0; i < poly.size(); ++i) {
+    Vec3 a = poly[i], b = poly[(i + 1) % poly.size()];
+    double da = keep * plane.at(a), db = keep * plane.at(b);
+    if (da >= 0) out.push_back(a);
+    if ((da > 0 && db < 0) || (da < 0 && db > 0)) out.push_back(a + (b - a) * (da / (da - db)));
+  }
+  return out;
+}
+
+}  // namespace
+
+bool triangles_intersect(const Tri3& a, const Tri3& b) {
+  Plane pa = plane_of(a), pb = plane_of(b);
+  Vec3 dir = cross(pa.n, pb.n);
+  if (norm(dir) < 1e-12) return false;  // parallel or coplanar: no transversal cut
+  double alo, ahi, blo, bhi;
+  if (!crossing_interval(a, pb, dir, alo, ahi) || !crossing_interval(b, pa, dir, blo, bhi))
+    return false;
+  return std::min(ahi, bhi) - std::max(alo, blo) > 0;
+}
+
+nlohmann::json IntersectionRefinement::diagnostics() const {
+  return {{"intersecting_pairs", intersecting_pairs},
+          {"cut_triangles", cut_triangles},
+          {"refined_triangles", soup.triangles.size()},
+          {"probes", probes.size()}};
+}
+
+IntersectionRefinement refine_intersections(const Soup& soup, Progress& progress, double min_depth) {
+  constexpr size_t kMaxCutters = 8;  // bounds the pieces of one triangle
+  const size_t n = soup.triangles.size();
+  if (!(min_depth > 0)) min_depth = 2e-3 * bounding_box(soup).diagonal();
+  auto tri = [&](size_t t) { return Tri3{soup.corner(t, 0), soup.corner(t, 1), soup.corner(t, 2)}; };
+
+  TriMesh mesh;
+  mesh.vertices.reserve(3 * n);
+  for (size_t t = 0; t < n; ++t) {
+    for (int k = 0; k < 3; ++k) mesh.vertices.push_back(soup.corner(t, k));
+    mesh.faces.push_back({int(3 * t), int(3 * t + 1), int(3 * t + 2)});
+  }
+  TriangleBvh bvh(mesh);
+
+  // Cutters of each triangle: the planes that pass deeply through it.
+  std::vector<std::vector<uint32_t>> cutters(n);
+  IntersectionRefinement r;
+  for (size_t a = 0; a < n; ++a) {
+    if ((a & 4095) == 0) progress.update("intersections", 0.8 * double(a) / double(n));
+    Tri3 ta = tri(a);
+    Box3 box;
+    for (Vec3 p : ta) box.add(p);
+    bvh.for_each_overlap(box, [&](int bi) {
+      size_t b = size_t(bi);
+      if (b <= a) return;
+      Tri3 tb = tri(b);
+      auto deep = [&](const Tri3& cut, const Tri3& by) {
+        Plane p = plane_of(by);
+        double lo = INFINITY, hi = -INFINITY;
+        for (Vec3 x : cut) { double d = p.at(x); lo = std::min(lo, d); hi = std::max(hi, d); }
+        return lo < -min_depth && hi > min_depth;
+      };
+      bool a_cut = deep(ta, tb), b_cut = deep(tb, ta);
+      if (!(a_cut || b_cut) || !triangles_intersect(ta, tb)) return;
+      ++r.intersecting_pairs;
+      if (a_cut && cutters[a].size() < kMaxCutters) cutters[a].push_back(uint32_t(b));
+      if (b_cut && cutters[b].size() < kMaxCutters) cutters[b].push_back(uint32_t(a));
+    });
+  }
+
+  r.soup.origins.reserve(n);
+  r.soup.warnings = soup.warnings;
+  for (size_t t = 0; t < n; ++t) {
+    Tri3 ta = tri(t);
+    auto emit = [&](Vec3 p0, Vec3 p1, Vec3 p2) {
+      uint32_t base = uint32_t(r.soup.positions.size());
+      r.soup.positions.insert(r.soup.positions.end(), {p0, p1, p2});
+      r.soup.triangles.push_back({base, base + 1, base + 2});
+      r.soup.origins.push_back(soup.origins.empty() ? TriangleOrigin{} : soup.origins[t]);
+      r.parent.push_back(uint32_t(t));
+    };
+    if (cutters[t].empty()) {
+      emit(ta[0], ta[1], ta[2]);
+      continue;
+    }
+    ++r.cut_triangles;
+    // Split by each cutter's plane in turn; remember every piece's side signs.
+    struct Piece { Polygon poly; std::vector<int> side; };
+    std::vector<Piece> pieces{{Polygon(ta.begin(), ta.end()), {}}};
+    std::vector<Plane> planes;
+    for (uint32_t c : cutters[t]) planes.push_back(plane_of(tri(c)));
+    for (const Plane& p : planes) {
+      std::vector<Piece> next;
+      for (const Piece& piece : pieces)
+        for (int keep : {1, -1}) {
+          Polygon part = clip(piece.poly, p, keep);
+          if (part.size() >= 3 && polygon_area(part) > 0) {
+            Piece q{part, piece.side};
+            q.side.push_back(keep);
+            next.push_back(std::move(q));
+          }
+        }
+      pieces = std::move(next);
+    }
+    const Piece* largest = &pieces[0];
+    for (const Piece& piece : pieces) {
+      for (size_t i = 1; i + 1 < piece.poly.size(); ++i)
+        emit(piece.poly[0], piece.poly[i], piece.poly[i + 1]);
+      if (polygon_area(piece.poly) > polygon_area(largest->poly)) largest = &piece;
+    }
+    // Probes: three points well inside the largest piece (pulled halfway from
+    // spread-out vertices towards its centroid), and which corners lie off it.
+    CutProbe probe;
+    probe.triangle = uint32_t(t);
+    const Polygon& poly = largest->poly;
+    Vec3 centroid{};
+    for (Vec3 v : poly) centroid += v;
+    centroid = centroid / double(poly.size());
+    size_t m = poly.size();
+    for (int i = 0; i < 3; ++i) probe.points[i] = 0.5 * (centroid + poly[(i * m) / 3]);
+    for (int k = 0; k < 3; ++k)
+      for (size_t j = 0; j < planes.size(); ++j)
+        if (planes[j].at(ta[k]) * largest->side[j] < -1e-12 * min_depth) probe.corner_off[k] = true;
+    r.probes.push_back(probe);
+  }
+  progress.update("intersections", 1);
+  return r;
+}
+
+size_t apply_cut_probes(const Soup& soup, const std::vector<CutProbe>& probes,
+                        const std::vector<Vec2>& probe_uvs,
+                        std::vector<std::array<Vec2, 3>>& corner_uvs) {
+  size_t changed = 0;
+  for (size_t i = 0; i < probes.size(); ++i) {
+    const CutProbe& pr = probes[i];
+    const Vec3 a = pr.points[0], b = pr.points[1], c = pr.points[2];
+    // Barycentric coordinates in the probe triangle's plane (negative outside:
+    // that is the extrapolation).
+    Vec3 e1 = b - a, e2 = c - a;
+    double d11 = dot(e1, e1), d12 = dot(e1, e2), d22 = dot(e2, e2);
+    double det = d11 * d22 - d12 * d12;
+    if (!(det > 1e-30 * d11 * d22)) continue;  // collinear probes: keep the traced UVs
+    bool any = false;
+    for (int k = 0; k < 3; ++k) {
+      if (!pr.corner_off[k]) continue;
+      Vec3 q = soup.corner(pr.triangle, k) - a;
+      double q1 = dot(q, e1), q2 = dot(q, e2);
+      double v = (d22 * q1 - d12 * q2) / det, w = (d11 * q2 - d12 * q1) / det;
+      Vec2 uv = (1 - v - w) * probe_uvs[3 * i] + v * probe_uvs[3 * i + 1] + w * probe_uvs[3 * i + 2];
+      // Keep UVs inside the texture even if the extrapolation overshoots.
+      uv.x = std::clamp(uv.x, 0.0, 1.0);
+      uv.y = std::clamp(uv.y, 0.0, 1.0);
+      corner_uvs[pr.triangle][k] = uv;
+      any = true;
+    }
+    changed += any;
+  }
+  return changed;
+}
+
+}  // namespace soupuv::transfer
