@@ -1,0 +1,64 @@
+// TriangleBvh: a bounding volume hierarchy over triangles for the two queries
+// the proxy needs — distance from a point to the nearest triangle (the offset
+// field d(x), paper §5) and ray parity (is a point inside a closed mesh).
+//
+// Input:  triangles as corner positions (a soup or an indexed mesh).
+// Output: queries in O(log n) expected time; build is O(n log n) (median split).
+// The queries are const and may run from many threads at once.
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <vector>
+
+#include "soupuv/mesh.h"
+#include "soupuv/soup.h"
+#include "soupuv/vec.h"
+
+namespace soupuv::proxy {
+
+// Distance from p to the triangle (a, b, c); exact for degenerate triangles too
+// (they degrade to segments or points).
+double point_triangle_distance(Vec3 p, Vec3 a, Vec3 b, Vec3 c);
+
+// What a ray from a point says about being inside a closed surface.
+enum class RayParity { inside, outside, uncertain };
+
+class TriangleBvh {
+ public:
+  explicit TriangleBvh(const Soup& soup);
+  explicit TriangleBvh(const TriMesh& mesh);
+  explicit TriangleBvh(std::vector<std::array<Vec3, 3>> triangles);
+
+  size_t size() const { return tris_.size(); }
+  Box3 bounds() const;
+
+  // Distance from p to the nearest triangle, answered only as precisely as a
+  // caller deciding "below lo / inside [lo, hi] / above hi" needs: the exact
+  // distance when it lies in [lo, hi]; some value < lo (an upper bound of the
+  // distance) as soon as one triangle closer than lo is found; hi when no
+  // triangle is closer than hi. lo = 0, hi = INFINITY gives the exact distance.
+  double distance(Vec3 p, double lo = 0, double hi = INFINITY) const;
+
+  // Parity of the crossings of the ray p + t*dir, t > 0, with the triangles.
+  // `uncertain` when the ray grazes an edge or vertex (try another direction).
+  RayParity ray_parity(Vec3 p, Vec3 dir) const;
+
+  // Inside test for a closed surface: ray parity along fixed skew directions,
+  // the first that does not graze an edge decides (all grazing: outside).
+  bool contains(Vec3 p) const;
+
+ private:
+  struct Node {
+    Box3 box;
+    uint32_t first = 0;  // leaf: first triangle; inner: index of the right child
+    uint32_t count = 0;  // leaf: triangle count; inner: 0 (left child is next)
+  };
+  void build();
+  uint32_t build_node(uint32_t first, uint32_t count, int depth);
+
+  std::vector<std::array<Vec3, 3>> tris_;
+  std::vector<Node> nodes_;
+};
+
+}  // namespace soupuv::proxy

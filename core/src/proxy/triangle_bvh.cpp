@@ -1,0 +1,225 @@
+// TriangleBvh: median-split BVH, point distance with a band early-out, ray
+// parity. See soupuv/proxy/triangle_bvh.h.
+#include "soupuv/proxy/triangle_bvh.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace soupuv::proxy {
+namespace {
+
+constexpr uint32_t kLeafSize = 4;
+
+double segment_distance2(Vec3 p, Vec3 a, Vec3 b) {
+  Vec3 ab = b - a;
+  double len2 = norm2(ab);
+  double t = len2 > 0 ? std::clamp(dot(p - a, ab) / len2, 0.0, 1.0) : 0.0;
+  return norm2(p - (a + t * ab));
+}
+
+// Squared distance by the Voronoi regions of the triangle (Ericson, Real-Time
+// Collision Detection §5.1.5, written from the description); degenerate
+// triangles fall back to their edges.
+double point_triangle_distance2(Vec3 p, Vec3 a, Vec3 b, Vec3 c) {
+  Vec3 ab = b - a, ac = c - a, ap = p - a;
+  double d1 = dot(ab, ap), d2 = dot(ac, ap);
+  if (d1 <= 0 && d2 <= 0) return norm2(ap);
+  Vec3 bp = p - b;
+  double d3 = dot(ab, bp), d4 = dot(ac, bp);
+  if (d3 >= 0 && d4 <= d3) return norm2(bp);
+  double vc = d1 * d4 - d3 * d2;
+  if (vc <= 0 && d1 >= 0 && d3 <= 0) return segment_distance2(p, a, b);
+  Vec3 cp = p - c;
+  double d5 = dot(ab, cp), d6 = dot(ac, cp);
+  if (d6 >= 0 && d5 <= d6) return norm2(cp);
+  double vb = d5 * d2 - d1 * d6;
+  if (vb <= 0 && d2 >= 0 && d6 <= 0) return segment_distance2(p, a, c);
+  double va = d3 * d6 - d5 * d4;
+  if (va <= 0 && (d4 - d3) >= 0 && (d5 - d6) >= 0) return segment_distance2(p, b, c);
+  double denom = va + vb + vc;
+  if (!(denom > 0)) {  // degenerate: no interior region
+    return std::min({segment_distance2(p, a, b), segment_distance2(p, b, c),
+                     segment_distance2(p, a, c)});
+  }
+  double v = vb / denom, w = vc / denom;
+  return norm2(p - (a + v * ab + w * ac));
+}
+
+double box_distance2(const Box3& box, Vec3 p) {
+  double d2 = 0;
+  for (int k = 0; k < 3; ++k) {
+    double e = std::max({box.lo[k] - p[k], 0.0, p[k] - box.hi[k]});
+    d2 += e * e;
+  }
+  return d2;
+}
+
+// Slab test; true when the ray p + t*dir (t >= 0) meets the box.
+bool ray_hits_box(const Box3& box, Vec3 p, Vec3 inv_dir) {
+  double t0 = 0, t1 = INFINITY;
+  for (int k = 0; k < 3; ++k) {
+    double a = (box.lo[k] - p[k]) * inv_dir[k];
+    double b = (box.hi[k] - p[k]) * inv_dir[k];
+    if (a > b) std::swap(a, b);
+    t0 = std::max(t0, a);
+    t1 = std::min(t1, b);
+    if (t0 > t1) return false;
+  }
+  return true;
+}
+
+}  // namespace
+
+double point_triangle_distance(Vec3 p, Vec3 a, Vec3 b, Vec3 c) {
+  return std::sqrt(point_triangle_distance2(p, a, b, c));
+}
+
+TriangleBvh::TriangleBvh(const Soup& soup) {
+  tris_.reserve(soup.triangles.size());
+  for (const Tri& t : soup.triangles)
+    tris_.push_back({soup.positions[t[0]], soup.positions[t[1]], soup.positions[t[2]]});
+  build();
+}
+
+TriangleBvh::TriangleBvh(const TriMesh& mesh) {
+  tris_.reserve(mesh.faces.size());
+  for (const auto& f : mesh.faces)
+    tris_.push_back({mesh.vertices[f[0]], mesh.vertices[f[1]], mesh.vertices[f[2]]});
+  build();
+}
+
+TriangleBvh::TriangleBvh(std::vector<std::array<Vec3, 3>> triangles)
+    : tris_(std::move(triangles)) {
+  build();
+}
+
+Box3 TriangleBvh::bounds() const { return nodes_.empty() ? Box3{} : nodes_[0].box; }
+
+void TriangleBvh::build() {
+  nodes_.clear();
+  if (tris_.empty()) return;
+  nodes_.reserve(2 * tris_.size() / kLeafSize + 2);
+  build_node(0, static_cast<uint32_t>(tris_.size()), 0);
+}
+
+uint32_t TriangleBvh::build_node(uint32_t first, uint32_t count, int depth) {
+  uint32_t index = static_cast<uint32_t>(nodes_.size());
+  nodes_.push_back({});
+  Box3 box, centroids;
+  for (uint32_t i = first; i < first + count; ++i) {
+    for (const Vec3& v : tris_[i]) box.add(v);
+    centroids.add((tris_[i][0] + tris_[i][1] + tris_[i][2]) / 3.0);
+  }
+  nodes_[index].box = box;
+  Vec3 ext = centroids.extent();
+  int axis = ext.x >= ext.y && ext.x >= ext.z ? 0 : (ext.y >= ext.z ? 1 : 2);
+  if (count <= kLeafSize || ext[axis] <= 0 || depth > 60) {
+    nodes_[index].first = first;
+    nodes_[index].count = count;
+    return index;
+  }
+  uint32_t half = count / 2;
+  auto centroid_along = [axis](const std::array<Vec3, 3>& t) {
+    return t[0][axis] + t[1][axis] + t[2][axis];
+  };
+  std::nth_element(tris_.begin() + first, tris_.begin() + first + half,
+                   tris_.begin() + first + count,
+                   [&](const auto& a, const auto& b) { return centroid_along(a) < centroid_along(b); });
+  build_node(first, half, depth + 1);
+  uint32_t right = build_node(first + half, count - half, depth + 1);
+  nodes_[index].first = right;
+  nodes_[index].count = 0;
+  return index;
+}
+
+double TriangleBvh::distance(Vec3 p, double lo, double hi) const {
+  if (nodes_.empty()) return hi;
+  double best2 = hi * hi;  // INFINITY stays INFINITY
+  double lo2 = lo * lo;
+  uint32_t stack[128];
+  int top = 0;
+  stack[top++] = 0;
+  while (top > 0) {
+    const Node& node = nodes_[stack[--top]];
+    if (box_distance2(node.box, p) >= best2) continue;
+    if (node.count > 0) {
+      for (uint32_t i = node.first; i < node.first + node.count; ++i) {
+        const auto& t = tris_[i];
+        double d2 = point_triangle_distance2(p, t[0], t[1], t[2]);
+        if (d2 < best2) {
+          best2 = d2;
+          if (best2 < lo2) return std::sqrt(best2);
+        }
+      }
+      continue;
+    }
+    // Visit the nearer child first: it tightens best2 and prunes the other.
+    uint32_t left = static_cast<uint32_t>(&node - nodes_.data()) + 1, right = node.first;
+    double dl = box_distance2(nodes_[left].box, p), dr = box_distance2(nodes_[right].box, p);
+    if (dl < dr) {
+      if (dr < best2) stack[top++] = right;
+      if (dl < best2) stack[top++] = left;
+    } else {
+      if (dl < best2) stack[top++] = left;
+      if (dr < best2) stack[top++] = right;
+    }
+  }
+  return best2 < hi * hi ? std::sqrt(best2) : hi;
+}
+
+RayParity TriangleBvh::ray_parity(Vec3 p, Vec3 dir) const {
+  if (nodes_.empty()) return RayParity::outside;
+  Vec3 inv{1.0 / dir.x, 1.0 / dir.y, 1.0 / dir.z};
+  const double eps = 1e-9;
+  int crossings = 0;
+  uint32_t stack[128];
+  int top = 0;
+  stack[top++] = 0;
+  while (top > 0) {
+    const Node& node = nodes_[stack[--top]];
+    if (!ray_hits_box(node.box, p, inv)) continue;
+    if (node.count == 0) {
+      stack[top++] = static_cast<uint32_t>(&node - nodes_.data()) + 1;
+      stack[top++] = node.first;
+      continue;
+    }
+    for (uint32_t i = node.first; i < node.first + node.count; ++i) {
+      const auto& t = tris_[i];
+      // Moller-Trumbore with a relative tolerance on the barycentrics: a hit
+      // that close to an edge might be counted twice or not at all.
+      Vec3 e1 = t[1] - t[0], e2 = t[2] - t[0];
+      Vec3 pv = cross(dir, e2);
+      double det = dot(e1, pv);
+      double scale = norm(e1) * norm(e2) * norm(dir);
+      if (std::fabs(det) <= 1e-12 * scale) continue;  // parallel to the plane
+      double inv_det = 1.0 / det;
+      Vec3 tv = p - t[0];
+      double u = dot(tv, pv) * inv_det;
+      if (u < -eps || u > 1 + eps) continue;
+      Vec3 qv = cross(tv, e1);
+      double v = dot(dir, qv) * inv_det;
+      if (v < -eps || u + v > 1 + eps) continue;
+      double s = dot(e2, qv) * inv_det;
+      double size = std::max(norm(e1), norm(e2)) / norm(dir);
+      if (s < -eps * size) continue;
+      if (s <= eps * size || u <= eps || v <= eps || u + v >= 1 - eps) return RayParity::uncertain;
+      ++crossings;
+    }
+  }
+  return crossings % 2 ? RayParity::inside : RayParity::outside;
+}
+
+bool TriangleBvh::contains(Vec3 p) const {
+  static const Vec3 dirs[] = {{0.5773, 0.6123, 0.5401}, {-0.7071, 0.3117, -0.6347},
+                              {0.1331, -0.9123, 0.3873}, {-0.4409, -0.5407, 0.7166},
+                              {0.8791, -0.2213, -0.4222}};
+  // The first direction that does not graze an edge decides; a point on the
+  // surface itself grazes every direction and counts as outside.
+  for (const Vec3& d : dirs) {
+    RayParity r = ray_parity(p, d);
+    if (r != RayParity::uncertain) return r == RayParity::inside;
+  }
+  return false;
+}
+
+}  // namespace soupuv::proxy

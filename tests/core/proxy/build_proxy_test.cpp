@@ -1,0 +1,167 @@
+// build_proxy on shapes with known answers (paper §5, Fig. 21): every proxy
+// closed, manifold, outward, enclosing, without self-intersections, with the
+// genus and component counts the shape dictates.
+#include <gtest/gtest.h>
+
+#include "proxy_expect.h"
+#include "soupuv/errors.h"
+#include "soupuv/shapes.h"
+
+namespace soupuv::proxy {
+namespace {
+
+ProxyOptions relative(double fraction, int resolution = 0) {
+  ProxyOptions o;
+  o.offset_mode = OffsetMode::relative;
+  o.offset = fraction;
+  o.resolution = resolution;
+  return o;
+}
+
+TEST(BuildProxy, SphereIsOneGenusZeroShell) {
+  Soup soup = shapes::to_soup(shapes::sphere_with(1.0, 2000), 1e-3, 1);
+  ProxyResult r = build_proxy(soup, relative(0.03));
+  expect_valid_proxy(r, soup, 1);
+  EXPECT_EQ(r.genus, 0);
+  EXPECT_EQ(r.euler, 2);
+  EXPECT_EQ(r.inner_components, 1);  // the closed sphere's cavity, dropped
+  // The proxy lies near d = o: its vertices' radius is about 1 + o.
+  double o = r.offset;
+  for (size_t i = 0; i < r.proxy.mesh.vertices.size(); i += 17)
+    EXPECT_NEAR(norm(r.proxy.mesh.vertices[i]), 1 + o, 0.35 * o);
+}
+
+TEST(BuildProxy, TorusHasGenusOne) {
+  Soup soup = shapes::to_soup(shapes::torus(1.0, 0.35, 48, 24), 1e-3, 2);
+  ProxyResult r = build_proxy(soup, relative(0.02));
+  expect_valid_proxy(r, soup, 1);
+  EXPECT_EQ(r.genus, 1);
+  EXPECT_EQ(r.euler, 0);
+}
+
+TEST(BuildProxy, CubeWithSharpEdges) {
+  Soup soup = shapes::to_soup(shapes::cube(2.0, 4), 1e-3, 3);
+  ProxyResult r = build_proxy(soup, relative(0.02));
+  expect_valid_proxy(r, soup, 1);
+  EXPECT_EQ(r.genus, 0);
+}
+
+// Two plates meeting along an edge at 30 degrees (Fig. 21): the narrow gap
+// between them is the thin feature; the proxy must still be one closed shell.
+TEST(BuildProxy, VOfTwoPlates) {
+  TriMesh plate;
+  int n = 8;
+  for (int j = 0; j <= n; ++j)
+    for (int i = 0; i <= n; ++i) plate.vertices.push_back({double(i) / n, double(j) / n - 0.5, 0});
+  for (int j = 0; j < n; ++j)
+    for (int i = 0; i < n; ++i) {
+      int a = j * (n + 1) + i;
+      plate.faces.push_back({a, a + 1, a + n + 2});
+      plate.faces.push_back({a, a + n + 2, a + n + 1});
+    }
+  TriMesh tilted = plate;
+  double angle = 30.0 * M_PI / 180;
+  for (Vec3& v : tilted.vertices) v = {v.x * std::cos(angle), v.y, v.x * std::sin(angle)};
+  Soup soup = shapes::merge(shapes::to_soup(plate), shapes::to_soup(tilted));
+  ProxyResult r = build_proxy(soup, relative(0.02));
+  expect_valid_proxy(r, soup, 1);
+  EXPECT_EQ(r.genus, 0);
+  EXPECT_EQ(r.inner_components, 0);
+}
+
+// A hollow shell: a closed sphere inside a closed sphere. The offset surface
+// has an outer shell, the cavity between the spheres gives two inner ones.
+TEST(BuildProxy, HollowShellDropsInnerComponents) {
+  Soup soup = shapes::merge(shapes::to_soup(shapes::icosphere(1.0, 3)),
+                            shapes::to_soup(shapes::icosphere(0.6, 3)));
+  ProxyResult r = build_proxy(soup, relative(0.02));
+  expect_valid_proxy(r, soup, 1);
+  EXPECT_GE(r.inner_components, 2);
+  // Only the outer shell is left: all vertices near radius 1 + o.
+  for (const Vec3& v : r.proxy.mesh.vertices) EXPECT_GT(norm(v), 1.0);
+}
+
+TEST(BuildProxy, FarApartPartsGiveTwoOuterComponentsAndAWarning) {
+  TriMesh a = shapes::icosphere(1.0, 2), b = shapes::cube(1.5, 2);
+  shapes::translate(b, {4, 0, 0});
+  Soup soup = shapes::merge(shapes::to_soup(a), shapes::to_soup(b));
+  ProxyResult r = build_proxy(soup, relative(0.03));
+  expect_valid_proxy(r, soup, 2);
+  bool warned = false;
+  for (const auto& w : r.warnings) warned |= w.find("outer components") != std::string::npos;
+  EXPECT_TRUE(warned);
+  ASSERT_EQ(r.proxy.face_component.size(), r.proxy.mesh.faces.size());
+  EXPECT_EQ(*std::max_element(r.proxy.face_component.begin(), r.proxy.face_component.end()), 1);
+}
+
+TEST(BuildProxy, AutomaticPicksTheTightestSingleShell) {
+  // Two spheres 0.1 apart: rungs below a gap of 2o = 0.1 give two shells, so
+  // automatic must climb the ladder until they merge.
+  TriMesh a = shapes::icosphere(1.0, 2), b = shapes::icosphere(1.0, 2);
+  shapes::translate(b, {2.1, 0, 0});
+  Soup soup = shapes::merge(shapes::to_soup(a), shapes::to_soup(b));
+  ProxyOptions o;
+  o.offset_mode = OffsetMode::automatic;
+  ProxyResult r = build_proxy(soup, o);
+  expect_valid_proxy(r, soup, 1);
+  EXPECT_GT(r.offset, 0.03);
+  ASSERT_GE(r.ladder_tried.size(), 2u);  // the tight rungs were tried and refused
+  double diag = bounding_box(soup).diagonal();
+  EXPECT_NEAR(r.offset, r.ladder_tried.back() * diag, 1e-12);
+}
+
+TEST(BuildProxy, RawLevelSetWithoutRemeshOrSmoothingIsValid) {
+  Soup soup = shapes::to_soup(shapes::torus(1.0, 0.3, 32, 16), 1e-3, 4);
+  ProxyOptions o = relative(0.03);
+  o.remesh = false;
+  o.smoothing_iterations = 0;
+  ProxyResult r = build_proxy(soup, o);
+  expect_valid_proxy(r, soup, 1);
+  // The closed torus soup's cavity is the only face set removed.
+  EXPECT_EQ(r.inner_components, 1);
+  EXPECT_LT(r.triangles, r.raw_triangles);
+  EXPECT_EQ(r.genus, 1);
+}
+
+TEST(BuildProxy, ResolutionFollowsTheSamplingArgument) {
+  // Table 1: cylinder r = 1, h = 2; a 1 % offset (of the extent 2) needs 200 samples.
+  Soup soup = shapes::to_soup(shapes::cylinder(1.0, 2.0, 64, 8, 8));
+  ProxyOptions o;
+  o.offset_mode = OffsetMode::absolute;
+  o.offset = 0.02 * 2.0 / 2.0 * 1.0;  // 1 % of the extent 2 = 0.02
+  o.remesh = false;
+  o.smoothing_iterations = 0;
+  o.check_self_intersections = false;
+  ProxyResult r = build_proxy(soup, o);
+  EXPECT_EQ(r.resolution, 200);
+  EXPECT_TRUE(r.closed && r.manifold);
+}
+
+TEST(BuildProxy, ErrorsAndCancel) {
+  EXPECT_THROW(build_proxy(Soup{}, ProxyOptions{}), Error);
+  Soup soup = shapes::to_soup(shapes::icosphere(1.0, 1));
+  ProxyOptions bad = relative(-1);
+  EXPECT_THROW(build_proxy(soup, bad), Error);
+  Progress progress;
+  progress.cancel();
+  try {
+    build_proxy(soup, relative(0.05), progress);
+    FAIL() << "not canceled";
+  } catch (const Error& e) {
+    EXPECT_EQ(e.code(), ErrorCode::canceled);
+  }
+}
+
+TEST(BuildProxy, DiagnosticsJsonCarriesTheChecks) {
+  Soup soup = shapes::to_soup(shapes::icosphere(1.0, 2));
+  ProxyResult r = build_proxy(soup, relative(0.05));
+  nlohmann::json d = r.diagnostics();
+  for (const char* key : {"closed", "manifold", "outward", "euler", "genus", "outer_components",
+                          "inner_components", "encloses", "min_distance", "self_intersections",
+                          "triangles", "seconds", "warnings"})
+    EXPECT_TRUE(d.contains(key)) << key;
+  EXPECT_EQ(d["triangles"].get<size_t>(), r.proxy.mesh.faces.size());
+}
+
+}  // namespace
+}  // namespace soupuv::proxy
