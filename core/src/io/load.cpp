@@ -4,6 +4,7 @@
 
 #include <filesystem>
 #include <fstream>
+#include <algorithm>
 #include <map>
 #include <new>
 
@@ -98,7 +99,10 @@ Asset load_gltf_document(json doc, std::span<const uint8_t> bin, bool has_bin, F
   asset.format = format;
   std::vector<std::string>& warnings = asset.soup.warnings;
   detail::BufferTable buffers(doc, bin, has_bin, options, budget);
-  asset.instances = detail::flatten_scenes(doc, options.max_triangles, warnings);
+  // Real scenes have thousands of nodes, not millions; a node DAG whose paths
+  // multiply beyond this is an attack, refused before it costs time.
+  constexpr uint64_t kMaxNodeVisits = 1'000'000;
+  asset.instances = detail::flatten_scenes(doc, std::min(kMaxNodeVisits, options.max_triangles), warnings);
 
   // Each mesh is read once however often it is instanced.
   std::map<int32_t, std::vector<detail::PrimitiveGeometry>> meshes;

@@ -26,8 +26,8 @@ uint64_t triangles_for_mode(uint64_t mode, uint64_t n) {
 
 Tri expand_triangle(uint64_t mode, uint64_t i) {
   uint32_t k = uint32_t(i);
-  if (mode == kStrip)  // every other triangle swaps two corners to keep the winding
-    return k % 2 == 0 ? Tri{k, k + 1, k + 2} : Tri{k + 1, k, k + 2};
+  if (mode == kStrip)  // the spec's order: odd triangles swap their last two corners
+    return Tri{k, k + 1 + k % 2, k + 2 - k % 2};
   if (mode == kFan) return Tri{k + 1, k + 2, 0};
   return Tri{3 * k, 3 * k + 1, 3 * k + 2};
 }

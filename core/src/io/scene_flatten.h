@@ -5,7 +5,7 @@
 // Output: one MeshInstance per (path to a mesh-carrying node), world = product
 //         of the nodes' matrices (matrix or T*R*S) along the path. Errors:
 //         invalid_input for bad indices, non-finite transforms or cycles;
-//         limit_exceeded past max_instances (DAGs can multiply paths).
+//         limit_exceeded past max_instances node visits (DAGs can multiply paths).
 #pragma once
 
 #include <cstdint>
