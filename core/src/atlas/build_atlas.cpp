@@ -1,0 +1,172 @@
+// build_atlas: the atlas stage's driver (see soupuv/atlas/build_atlas.h):
+// seams -> segmentation -> per-chart disk check and flattening, splitting what
+// fails -> packing -> diagnostics.
+#include "soupuv/atlas/build_atlas.h"
+
+#include <chrono>
+#include <cmath>
+
+#include <omp.h>
+
+#include "atlas/atlas_metrics.h"
+#include "atlas/chart_mesh.h"
+#include "atlas/mesh_topology.h"
+#include "atlas/pack.h"
+#include "atlas/parameterize.h"
+#include "atlas/seams.h"
+#include "atlas/segment.h"
+#include "atlas/split.h"
+#include "soupuv/errors.h"
+
+namespace soupuv::atlas {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+double since(Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); }
+
+struct FlatChart {
+  ChartMesh mesh;
+  std::vector<Vec2> uv;
+};
+
+}  // namespace
+
+nlohmann::json AtlasResult::diagnostics() const {
+  const AtlasDiagnostics& s = stats;
+  return {{"charts", s.charts},
+          {"faces", s.faces},
+          {"stretch_l2", s.stretch_l2},
+          {"stretch_linf", s.stretch_linf},
+          {"angle_distortion_deg", s.angle_distortion_deg},
+          {"flipped", s.flipped},
+          {"overlap", s.overlap},
+          {"utilization", s.utilization},
+          {"splits", s.splits},
+          {"seam_edges", s.seam_edges},
+          {"texture_size", atlas.texture_size},
+          {"padding_px", atlas.padding_px},
+          {"uv_per_length", atlas.uv_per_length},
+          {"seconds", s.seconds},
+          {"seconds_segment", s.seconds_segment},
+          {"seconds_parameterize", s.seconds_parameterize},
+          {"seconds_pack", s.seconds_pack},
+          {"warnings", s.warnings}};
+}
+
+AtlasResult build_atlas(const TriMesh& mesh, const AtlasOptions& options, Progress& progress) {
+  const auto t0 = Clock::now();
+  if (options.texture_size < 16 || options.texture_size > 65536)
+    throw Error(ErrorCode::invalid_input, "atlas: texture_size must be in [16, 65536]");
+  if (!(options.padding_px >= 0) || options.padding_px > options.texture_size / 4.0)
+    throw Error(ErrorCode::invalid_input, "atlas: padding_px must be in [0, texture_size/4]");
+  if (!(options.max_normal_deviation_deg > 0 && options.max_normal_deviation_deg < 90))
+    throw Error(ErrorCode::invalid_input, "atlas: max_normal_deviation_deg must be in (0, 90)");
+  if (!(options.max_stretch >= 1))
+    throw Error(ErrorCode::invalid_input, "atlas: max_stretch must be at least 1");
+  const int threads = options.threads > 0 ? options.threads : omp_get_max_threads();
+
+  AtlasResult result;
+  AtlasDiagnostics& stats = result.stats;
+  const int nf = static_cast<int>(mesh.faces.size());
+  stats.faces = nf;
+  MeshTopology topology = build_topology(mesh);
+
+  std::vector<char> seam(topology.edge_vertices.size(), 0);
+  SeamPaths paths = trace_seam_hints(mesh, topology, options.seam_hints, options.alpha, options.beta);
+  for (int e : paths.edges) {
+    seam[e] = 1;
+    result.forced_seams.push_back(topology.edge_vertices[e]);
+  }
+  stats.seam_edges = static_cast<int>(paths.edges.size());
+  stats.warnings = paths.warnings;
+
+  Segmentation seg = segment_charts(topology, seam, options.max_normal_deviation_deg, progress);
+  std::vector<int>& face_chart = seg.face_chart;
+  std::vector<std::vector<int>> pending(seg.count);
+  for (int f = 0; f < nf; ++f) pending[face_chart[f]].push_back(f);
+  int next_id = seg.count;
+  stats.seconds_segment = since(t0);
+
+  // Rounds: flatten every pending chart in parallel; the ones that fail are
+  // split and come back in the next round. Halving sizes bound the rounds.
+  const auto t1 = Clock::now();
+  std::vector<FlatChart> done;
+  std::vector<int> face_local(nf, -1);
+  int faces_done = 0;
+  while (!pending.empty()) {
+    const int n = static_cast<int>(pending.size());
+    std::vector<FlatChart> flat(n);
+    std::vector<char> ok(n, 0);
+#pragma omp parallel for schedule(dynamic, 1) num_threads(threads)
+    for (int i = 0; i < n; ++i) {
+      flat[i].mesh = extract_chart(mesh, topology, pending[i], face_chart, seam, face_local);
+      if (!flat[i].mesh.is_disk()) continue;
+      ChartParameterization p =
+          parameterize_chart(flat[i].mesh, options.arap_iterations, options.max_stretch);
+      // A single face always flattens; nothing smaller exists to split into.
+      if (p.ok || (pending[i].size() == 1 && !p.uv.empty())) {
+        flat[i].uv = std::move(p.uv);
+        ok[i] = 1;
+      }
+    }
+    std::vector<std::vector<int>> next;
+    for (int i = 0; i < n; ++i) {
+      if (ok[i]) {
+        faces_done += static_cast<int>(pending[i].size());
+        done.push_back(std::move(flat[i]));
+        continue;
+      }
+      if (pending[i].size() == 1)
+        throw Error(ErrorCode::internal, "atlas: a single face could not be flattened");
+      ++stats.splits;
+      auto halves = split_chart(topology, seam, pending[i], face_chart);
+      for (auto& h : halves) {
+        if (h.empty()) continue;
+        for (int f : h) face_chart[f] = next_id;
+        ++next_id;
+        next.push_back(std::move(h));
+      }
+    }
+    pending = std::move(next);
+    progress.update("atlas.parameterize", static_cast<double>(faces_done) / nf);
+  }
+  stats.seconds_parameterize = since(t1);
+
+  const auto t2 = Clock::now();
+  progress.update("atlas.pack", 0);
+  std::vector<PackChart> pack_input;
+  for (FlatChart& c : done) pack_input.push_back({&c.uv, &c.mesh.tri});
+  PackResult packed = pack_charts(pack_input, options.texture_size, options.padding_px);
+  stats.seconds_pack = since(t2);
+
+  Atlas& atlas = result.atlas;
+  atlas.face_uvs.resize(nf);
+  atlas.face_chart.assign(nf, -1);
+  atlas.chart_count = static_cast<int>(done.size());
+  atlas.texture_size = options.texture_size;
+  atlas.padding_px = options.padding_px;
+  atlas.uv_per_length = packed.uv_per_length;
+  for (int c = 0; c < atlas.chart_count; ++c) {
+    const FlatChart& fc = done[c];
+    for (size_t i = 0; i < fc.mesh.faces.size(); ++i) {
+      int f = fc.mesh.faces[i];
+      atlas.face_chart[f] = c;
+      for (int k = 0; k < 3; ++k) atlas.face_uvs[f][k] = fc.uv[fc.mesh.tri[i][k]];
+    }
+  }
+
+  progress.update("atlas.measure", 0);
+  AtlasMetrics m = measure_atlas(mesh, atlas);
+  stats.charts = atlas.chart_count;
+  stats.stretch_l2 = m.stretch_l2;
+  stats.stretch_linf = m.stretch_linf;
+  stats.angle_distortion_deg = m.angle_distortion_deg;
+  stats.flipped = m.flipped;
+  stats.overlap = m.overlap;
+  stats.utilization = m.utilization;
+  stats.seconds = since(t0);
+  progress.update("atlas.measure", 1);
+  return result;
+}
+
+}  // namespace soupuv::atlas

@@ -1,0 +1,41 @@
+// Packing of flattened charts into the unit square.
+//
+// Inputs:  per chart its UVs (in units of 3D length: one density for all) and
+//          triangles, the texture size and the padding in texels.
+// Output:  the UVs rewritten in [0,1]^2 (every chart scaled by the same
+//          uv_per_length, rotated and translated), with at least padding_px
+//          texels between any two charts.
+//
+// Method: each chart is turned to its minimal-area bounding rectangle
+// (the best hull edge direction), then charts are placed largest first on a
+// grid of cells (about 4 texels): each chart, in four quarter turns, becomes
+// one run of cells per column (dilated by half the padding), and goes where
+// its top ends lowest among all columns and turns. Columns keep signed
+// free/occupied run lengths, so a chart can also drop into a hole between
+// earlier charts, and the search for the lowest fit jumps over whole
+// occupied runs. The common scale is the largest a bisection finds that fits.
+#pragma once
+
+#include <array>
+#include <vector>
+
+#include "soupuv/vec.h"
+
+namespace soupuv::atlas {
+
+struct PackChart {
+  std::vector<Vec2>* uv;
+  const std::vector<std::array<int, 3>>* triangles;
+};
+
+struct PackResult {
+  double uv_per_length = 0;
+  double utilization = 0;  // UV area / 1
+  int attempts = 0;        // packings tried by the bisection
+};
+
+// Throws Error{limit_exceeded} if the charts cannot fit at any scale (more
+// charts than the padding leaves room for).
+PackResult pack_charts(std::vector<PackChart>& charts, int texture_size, double padding_px);
+
+}  // namespace soupuv::atlas
