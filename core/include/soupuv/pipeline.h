@@ -66,6 +66,8 @@ struct MapOptions {
   bool keep_debug = false;     // fill MapResult::debug (proxy, atlas, lines)
 };
 
+using debug_bytes = std::vector<uint8_t>;
+
 struct MapDebug {
   proxy::ProxyMesh proxy;
   atlas::Atlas atlas;
@@ -84,5 +86,11 @@ MapResult run_map(const io::Asset& asset, const MapOptions& options,
 // Same, for a bare soup (tests, benchmarks).
 MapResult run_map(const Soup& soup, const MapOptions& options,
                   Progress& progress = Progress::none());
+
+// Debug outputs (from MapResult::debug), as file contents:
+// the proxy wearing its atlas and `texture_png` (a PNG image) as a GLB;
+debug_bytes proxy_debug_glb(const MapDebug& debug, const std::vector<uint8_t>& texture_png);
+// the field lines as one LINES primitive (at most max_lines, evenly sampled);
+debug_bytes field_lines_glb(const field::FieldLines& lines, size_t max_lines = 30000);
 
 }  // namespace soupuv
