@@ -1,5 +1,6 @@
 #include "soupuv/server/app.h"
 
+#include <sys/socket.h>
 #include <unistd.h>
 
 #include <filesystem>
@@ -88,6 +89,12 @@ App::App(Config config) {
   http_.set_write_timeout(30, 0);
   http_.set_keep_alive_timeout(5);
   http_.set_keep_alive_max_count(100);
+  // httplib's default also sets SO_REUSEPORT, which lets a second server
+  // silently share the port with a live one; keep only SO_REUSEADDR.
+  http_.set_socket_options([](socket_t sock) {
+    int yes = 1;
+    setsockopt(sock, SOL_SOCKET, SO_REUSEADDR, &yes, sizeof yes);
+  });
   const int threads = c.http_threads;
   http_.new_task_queue = [threads] { return new httplib::ThreadPool(size_t(threads)); };
   register_routes(http_, ctx_);

@@ -50,12 +50,14 @@ WorkerVerdict classify_outcome(const ProcessOutcome& o, const std::string& reaso
   std::string detail = reason.empty() ? "worker exited with code " + std::to_string(o.exit_code) : reason;
   // The CLI's exit codes mirror soupuv::ErrorCode (see `soupuv --help`); the
   // reason text is the loader's/pipeline's own sentence.
-  switch (o.exit_code) {
-    case 2: return {JobState::failed, JobError{"invalid_input", 400, detail}};
-    case 3: return {JobState::failed, JobError{"unsupported", 422, detail}};
-    case 4: return {JobState::failed, JobError{"limit_exceeded", 413, detail}};
-    case 5: return {JobState::failed, JobError{"no_triangles", 422, detail}};
-    case 6: return {JobState::failed, JobError{"not_built", 501, detail}};
+  switch (o.exit_code) {  // core/apps/cli.h `Exit`
+    case 2: return {JobState::failed, JobError{"worker_usage", 500, "the worker refused its arguments: " + detail}};
+    case 3: return {JobState::failed, JobError{"invalid_input", 400, detail}};
+    case 4: return {JobState::failed, JobError{"unsupported", 422, detail}};
+    case 5: return {JobState::failed, JobError{"limit_exceeded", 413, detail}};
+    case 6: return {JobState::failed, JobError{"no_triangles", 422, detail}};
+    case 7: return {JobState::failed, JobError{"not_built", 501, detail}};
+    case 8: return {JobState::failed, JobError{"io_error", 500, detail}};
     case 127: return {JobState::failed, JobError{"worker_unavailable", 503, detail}};
     default: return {JobState::failed, JobError{"internal", 500, detail}};
   }
@@ -242,6 +244,7 @@ void Scheduler::run_job(const std::string& id) {
     double secs = now_seconds() - stage_started;
     stage_seconds[stage] = stage_seconds.value(stage, 0.0) + secs;
     metrics_.stage_seconds(stage, secs);
+    store_.update_progress(id, stage, 1.0, stage_seconds);
   }
   write_file_atomic(dir / "worker.log", outcome.stderr_tail);
 
