@@ -1,0 +1,86 @@
+// soupuv: command-line entry. Parses the subcommand, runs it, and turns every
+// failure into one line `soupuv: <reason>` on stderr and a documented exit
+// code — never an uncaught exception or a signal.
+#include <cstdio>
+#include <cstring>
+#include <new>
+#include <string>
+#include <vector>
+
+#include "cli.h"
+
+namespace {
+
+const char* kHelp = R"(soupuv — texture mapping for triangle soups
+
+Usage:
+  soupuv inspect IN
+      Prints JSON about IN (glTF, GLB or Draco): triangles, parts (meshes,
+      primitives, nodes, instances, materials), bounding box, vertex sharing
+      (is it a soup?), dropped degenerate triangles, warnings.
+
+  soupuv map IN -o OUT.glb [options]
+      Gives every triangle UVs and writes a textured GLB that keeps the input's
+      positions, nodes, meshes and materials.
+      --method box|field     UV method (default: box). box is the tri-planar
+                             box projection baseline (paper §11); field is the
+                             monopole field-line method (not built yet: fails).
+      --diagnostics OUT.json diagnostics (proto/diagnostics.schema.json)
+      --texture IMG          embed this PNG/JPEG as baseColorTexture instead of
+                             the generated UV-check texture
+      --texture-size N       size of the generated UV-check texture (default 1024)
+      --draco                KHR_draco_mesh_compression output (lossless)
+      --allow-external-uris  let a local .gltf read buffers from files beside it
+      --progress bar|json|none
+                             bar: a progress bar when stderr is a terminal
+                             (default); json: one {"stage":..,"fraction":..}
+                             object per line on stderr; none: quiet
+
+  soupuv --help | --version
+
+Exit codes:
+  0 success              5 limit exceeded (too many triangles or bytes)
+  1 internal error       6 no triangles to map
+  2 usage error          7 feature not built yet
+  3 invalid input        8 cannot read or write a file
+  4 unsupported input    130 canceled (SIGINT or SIGTERM)
+Errors print one line "soupuv: <reason>" on stderr.
+)";
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  using namespace soupuv::cli;
+  std::vector<std::string> args(argv + 1, argv + argc);
+  try {
+    if (args.empty()) throw UsageError{"no command given"};
+    if (args[0] == "--help" || args[0] == "-h" || args[0] == "help") {
+      std::fputs(kHelp, stdout);
+      return kOk;
+    }
+    if (args[0] == "--version") {
+      std::printf("soupuv %s\n", SOUPUV_VERSION);
+      return kOk;
+    }
+    std::string command = args[0];
+    args.erase(args.begin());
+    if (command == "inspect") return run_inspect(args);
+    if (command == "map") return run_map(args);
+    throw UsageError{"unknown command '" + command + "'"};
+  } catch (const UsageError& e) {
+    std::fprintf(stderr, "soupuv: %s (see soupuv --help)\n", e.message.c_str());
+    return kUsage;
+  } catch (const IoError& e) {
+    std::fprintf(stderr, "soupuv: %s\n", e.message.c_str());
+    return kIoError;
+  } catch (const soupuv::Error& e) {
+    std::fprintf(stderr, "soupuv: %s\n", e.what());
+    return exit_code(e.code());
+  } catch (const std::bad_alloc&) {
+    std::fprintf(stderr, "soupuv: out of memory\n");
+    return kInternal;
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "soupuv: internal error: %s\n", e.what());
+    return kInternal;
+  }
+}

@@ -1,0 +1,136 @@
+// `soupuv map IN -o OUT.glb ...`: load, compute UVs with the chosen method,
+// write the textured GLB and (optionally) the diagnostics JSON.
+#include <chrono>
+#include <cstdio>
+#include <optional>
+
+#include <nlohmann/json.hpp>
+
+#include "cli.h"
+#include "progress_report.h"
+#include "soupuv/io/load.h"
+#include "soupuv/io/write.h"
+#include "uv_method.h"
+
+namespace soupuv::cli {
+
+namespace {
+
+struct MapArgs {
+  std::string input, output, diagnostics, method = kDefaultMethod, texture;
+  int texture_size = 1024;
+  bool draco = false, allow_external_uris = false;
+  ProgressMode progress = ProgressMode::bar;
+};
+
+MapArgs parse(const std::vector<std::string>& args) {
+  MapArgs m;
+  for (size_t i = 0; i < args.size(); ++i) {
+    const std::string& a = args[i];
+    auto value = [&]() -> const std::string& {
+      if (i + 1 >= args.size()) throw UsageError{a + " needs a value"};
+      return args[++i];
+    };
+    if (a == "-o" || a == "--output") m.output = value();
+    else if (a == "--diagnostics") m.diagnostics = value();
+    else if (a == "--method") m.method = value();
+    else if (a == "--texture") m.texture = value();
+    else if (a == "--texture-size") {
+      const std::string& v = value();
+      try {
+        m.texture_size = std::stoi(v);
+      } catch (const std::exception&) {
+        throw UsageError{"--texture-size needs a number, not '" + v + "'"};
+      }
+    }
+    else if (a == "--draco") m.draco = true;
+    else if (a == "--allow-external-uris") m.allow_external_uris = true;
+    else if (a == "--progress") m.progress = parse_progress_mode(value());
+    else if (!a.empty() && a[0] == '-') throw UsageError{"map: unknown option " + a};
+    else if (m.input.empty()) m.input = a;
+    else throw UsageError{"map takes one input file"};
+  }
+  if (m.input.empty()) throw UsageError{"map needs an input file"};
+  if (m.output.empty()) throw UsageError{"map needs -o OUT.glb"};
+  return m;
+}
+
+const char* format_name(io::Format f) {
+  switch (f) {
+    case io::Format::glb: return "glb";
+    case io::Format::gltf: return "gltf";
+    case io::Format::drc: return "drc";
+  }
+  return "unknown";
+}
+
+double seconds_since(std::chrono::steady_clock::time_point start) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+}
+
+}  // namespace
+
+int run_map(const std::vector<std::string>& args) {
+  MapArgs m = parse(args);
+  Progress progress = make_progress(m.progress);
+  cancel_on_signals(progress);
+  nlohmann::json stages = nlohmann::json::object();
+
+  auto start = std::chrono::steady_clock::now();
+  progress.update("load", 0.0);
+  io::LoadOptions load_options;
+  load_options.allow_external_uris = m.allow_external_uris;
+  io::Asset asset = io::load_file(m.input, load_options);
+  stages["load"]["seconds"] = seconds_since(start);
+  progress.update("load", 1.0);
+
+  // Checked before the (possibly long) UV computation, so a bad image fails fast.
+  io::WriteOptions write_options;
+  if (!m.texture.empty()) write_options.texture = io::texture_from_file(m.texture);
+  write_options.check_texture_size = m.texture_size;
+  write_options.draco = m.draco;
+
+  MethodRun run = compute_uvs(asset, m.method, progress);
+
+  start = std::chrono::steady_clock::now();
+  progress.update("write", 0.0);
+  io::WriteResult written = io::write_glb(asset, run.corner_uvs, write_options);
+  progress.check_canceled();
+  write_file_atomically(m.output, written.glb.data(), written.glb.size());
+  stages["write"]["seconds"] = seconds_since(start);
+  progress.update("write", 1.0);
+  finish_progress(m.progress);
+
+  std::vector<std::string> warnings = asset.soup.warnings;
+  warnings.insert(warnings.end(), written.warnings.begin(), written.warnings.end());
+
+  if (!m.diagnostics.empty()) {
+    nlohmann::json d = run.diagnostics;
+    d["soupuv_version"] = SOUPUV_VERSION;
+    d["input"] = {{"file", m.input}, {"format", format_name(asset.format)},
+                  {"hash", geometry_hash(asset.soup)}};
+    d["soup"] = {{"triangles", asset.soup.triangle_count()},
+                 {"vertices", asset.soup.positions.size()},
+                 {"dropped_degenerate", asset.dropped_degenerate},
+                 {"skipped_primitives", asset.skipped_primitives}};
+    d["method"] = m.method;
+    for (auto& [name, stage] : stages.items()) d["stages"][name] = stage;
+    d["output"] = {{"file", m.output}, {"bytes", written.glb.size()},
+                   {"meshes", written.meshes}, {"primitives", written.primitives},
+                   {"vertices", written.vertices}, {"triangles", written.triangles},
+                   {"draco", m.draco},
+                   {"texture", {{"source", m.texture.empty() ? "uv_check" : "user"},
+                                {"mime_type", write_options.texture ? write_options.texture->mime_type : "image/png"}}}};
+    d["warnings"] = warnings;
+    std::string text = d.dump(2) + "\n";
+    write_file_atomically(m.diagnostics, text.data(), text.size());
+  }
+  // In json mode stderr belongs to the worker protocol; warnings are in the diagnostics.
+  if (m.progress != ProgressMode::json)
+    for (const std::string& w : warnings) std::fprintf(stderr, "soupuv: warning: %s\n", w.c_str());
+  std::printf("wrote %s: %zu triangles, %zu vertices, method %s\n", m.output.c_str(),
+              written.triangles, written.vertices, m.method.c_str());
+  return kOk;
+}
+
+}  // namespace soupuv::cli
