@@ -1,0 +1,59 @@
+// Starts a real soupuv-server process on 127.0.0.1 (port 0: the kernel picks a
+// free one; the harness reads it from the "listening" log line) with a fresh
+// data directory, and offers raw-socket and httplib clients against it.
+#pragma once
+
+#include <sys/types.h>
+
+#include <filesystem>
+#include <map>
+#include <memory>
+#include <mutex>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include <httplib.h>
+#include <nlohmann/json.hpp>
+
+namespace soupuv::test {
+
+std::filesystem::path fresh_dir(const std::string& name);  // under the build dir
+std::string read_bytes(const std::filesystem::path& p);
+std::string shared_data(const std::string& rel);           // SOUPUV_SHARED_DATA/rel
+bool cli_available();                                      // the real soupuv CLI was built
+
+class ServerProcess {
+ public:
+  // `args` are extra flags; `env` extra NAME=VALUE entries.
+  ServerProcess(std::filesystem::path data_dir, std::vector<std::string> args,
+                std::vector<std::string> env = {});
+  ~ServerProcess();
+  int port() const { return port_; }
+  pid_t pid() const { return pid_; }
+  void kill_hard();           // SIGKILL, reaped
+  int terminate();            // SIGTERM, waits; exit status
+  std::string log() const;    // stderr so far
+  httplib::Client client() const;
+
+ private:
+  pid_t pid_ = -1;
+  int port_ = 0;
+  int err_fd_ = -1;
+  std::thread reader_;
+  mutable std::mutex mu_;
+  std::string log_;
+};
+
+// Sends `request` as is and returns everything read until the peer closes or
+// `timeout_ms` passes.
+std::string raw_exchange(int port, const std::string& request, int timeout_ms = 3000);
+int status_of(const std::string& raw_response);
+
+// Submits a file with an explicit Content-Type; returns (status, body JSON or null).
+httplib::Result submit(httplib::Client& c, const std::string& bytes, const std::string& content_type,
+                       const std::string& query = "", const httplib::Headers& headers = {});
+// Polls GET /v1/jobs/{id} until a finished state or timeout; returns the last job JSON.
+nlohmann::json wait_finished(httplib::Client& c, const std::string& id, double timeout_s = 60);
+
+}  // namespace soupuv::test

@@ -1,0 +1,42 @@
+#!/bin/sh
+# A stand-in for the soupuv CLI that speaks its worker protocol, for testing the
+# server's process supervision only (timeouts, crashes, cancel, queue limits):
+# it never maps anything, and no test takes its output as a mapping result.
+# Behaviour comes from SOUPUV_TEST_WORKER_MODE in the server's environment:
+#   slow  - progress for SOUPUV_TEST_WORKER_SECONDS (default 30) then copy input
+#   crash - killed by SIGSEGV      hang - ignores SIGTERM, sleeps
+#   fail  - "soupuv: ..." and exit 3 (invalid input)
+case "$1" in
+  --help) echo "usage: soupuv map IN -o OUT --diagnostics D --progress json --method M --texture-size N; soupuv inspect IN"; exit 0 ;;
+  inspect) echo '{"triangles":1}'; exit 0 ;;
+  map) [ "$2" = "--help" ] && exit 0 ;;
+  *) echo "soupuv: unknown command" >&2; exit 2 ;;
+esac
+shift
+in="$1"; shift
+out=""; diag=""
+while [ $# -gt 0 ]; do
+  case "$1" in
+    -o) out="$2"; shift ;;
+    --diagnostics) diag="$2"; shift ;;
+  esac
+  shift
+done
+mode="${SOUPUV_TEST_WORKER_MODE:-slow}"
+secs="${SOUPUV_TEST_WORKER_SECONDS:-30}"
+case "$mode" in
+  crash) kill -SEGV $$ ;;
+  fail) echo "soupuv: test double refuses this input" >&2; exit 3 ;;
+  hang) trap '' TERM; while :; do sleep 1; done ;;
+esac
+trap 'exit 130' TERM
+i=0
+while [ "$i" -lt "$secs" ]; do
+  echo "{\"stage\":\"wait\",\"fraction\":0.$i}" >&2
+  sleep 1 &
+  wait $!
+  i=$((i + 1))
+done
+cp "$in" "$out"
+[ -n "$diag" ] && echo '{"double":true}' > "$diag"
+exit 0
