@@ -86,7 +86,7 @@ nlohmann::json IntersectionRefinement::diagnostics() const {
 IntersectionRefinement refine_intersections(const Soup& soup, Progress& progress, double min_depth) {
   constexpr size_t kMaxCutters = 8;  // bounds the pieces of one triangle
   const size_t n = soup.triangles.size();
-  if (!(min_depth > 0)) min_depth = 2e-3 * bounding_box(soup).diagonal();
+  if (!(min_depth > 0)) min_depth = 5e-3 * bounding_box(soup).diagonal();
   auto tri = [&](size_t t) { return Tri3{soup.corner(t, 0), soup.corner(t, 1), soup.corner(t, 2)}; };
 
   TriMesh mesh;

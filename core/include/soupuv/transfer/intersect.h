@@ -18,7 +18,8 @@
 //      triangle's plane -> UV) fitted to the probes (apply_cut_probes), so the
 //      whole original triangle wears the texture of one side, undistorted.
 //
-// Input : a soup; min_depth (absolute; 0 = 2e-3 x bounding-box diagonal).
+// Input : a soup; min_depth (absolute; 0 = 5e-3 x bounding-box diagonal, above
+//         the crossings that the shared soups' 1e-3 vertex noise makes).
 // Output: the refined soup, its parent map, probe points and counts.
 #pragma once
 
