@@ -57,18 +57,33 @@ Mat4 node_local_matrix(const nlohmann::json& node, const std::string& where) {
 
 std::vector<MeshInstance> flatten_scenes(const nlohmann::json& doc, uint64_t max_instances,
                                          std::vector<std::string>& warnings) {
+  // Every node is parsed once; the walk below may visit it along many paths.
+  struct NodeInfo {
+    Mat4 local;
+    int64_t mesh = -1;
+    bool skinned = false;
+    std::vector<uint64_t> children;
+  };
   const size_t node_count = array_size(doc, "nodes");
-  std::vector<std::vector<uint64_t>> children(node_count);
+  std::vector<NodeInfo> nodes(node_count);
   std::vector<bool> is_child(node_count, false);
   for (size_t n = 0; n < node_count; ++n) {
     std::string where = "node " + std::to_string(n);
     const nlohmann::json& node = element(doc, "nodes", n, where);
+    NodeInfo& info = nodes[n];
+    info.local = node_local_matrix(node, where);
+    if (auto mesh = get_opt_uint(node, "mesh", where)) {
+      element(doc, "meshes", *mesh, where);
+      if (*mesh > INT32_MAX || n > INT32_MAX) fail_input(where + ": index too large");
+      info.mesh = int64_t(*mesh);
+    }
+    info.skinned = find_member(node, "skin", where) != nullptr;
     if (const nlohmann::json* c = find_member(node, "children", where)) {
       if (!c->is_array()) fail_input(where + ": children is not an array");
       for (const auto& child : *c) {
         if (!child.is_number_unsigned() || child.get<uint64_t>() >= node_count)
           fail_input(where + ": child is not a valid node index");
-        children[n].push_back(child.get<uint64_t>());
+        info.children.push_back(child.get<uint64_t>());
         is_child[child.get<uint64_t>()] = true;
       }
     }
@@ -103,20 +118,17 @@ std::vector<MeshInstance> flatten_scenes(const nlohmann::json& doc, uint64_t max
   for (uint64_t root : roots) {
     std::vector<Frame> stack;
     auto enter = [&](uint64_t n, const Mat4& parent) {
-      std::string where = "node " + std::to_string(n);
-      if (on_path[n]) fail_input(where + " is its own ancestor (cycle in the node graph)");
+      if (on_path[n]) fail_input("node " + std::to_string(n) + " is its own ancestor (cycle in the node graph)");
       if (++visits > max_instances)
         throw Error(ErrorCode::limit_exceeded, "node graph expands to more than " +
                                                    std::to_string(max_instances) + " node instances");
-      const nlohmann::json& node = doc["nodes"][size_t(n)];
-      Mat4 world = multiply(parent, node_local_matrix(node, where));
+      const NodeInfo& info = nodes[n];
+      Mat4 world = multiply(parent, info.local);
       for (double v : world)
-        if (!std::isfinite(v)) fail_input(where + ": world transform is not finite");
-      if (auto mesh = get_opt_uint(node, "mesh", where)) {
-        element(doc, "meshes", *mesh, where);
-        if (*mesh > INT32_MAX || n > INT32_MAX) fail_input(where + ": index too large");
-        out.push_back({int32_t(n), int32_t(*mesh), world});
-        if (find_member(node, "skin", where) && !warned_skin) {
+        if (!std::isfinite(v)) fail_input("node " + std::to_string(n) + ": world transform is not finite");
+      if (info.mesh >= 0) {
+        out.push_back({int32_t(n), int32_t(info.mesh), world});
+        if (info.skinned && !warned_skin) {
           warnings.push_back("skinned meshes are loaded in their bind pose (skin ignored)");
           warned_skin = true;
         }
@@ -127,8 +139,8 @@ std::vector<MeshInstance> flatten_scenes(const nlohmann::json& doc, uint64_t max
     enter(root, kIdentity);
     while (!stack.empty()) {
       Frame& top = stack.back();
-      if (top.next_child < children[top.node].size()) {
-        uint64_t child = children[top.node][top.next_child++];
+      if (top.next_child < nodes[top.node].children.size()) {
+        uint64_t child = nodes[top.node].children[top.next_child++];
         Mat4 world = top.world;
         enter(child, world);
       } else {
