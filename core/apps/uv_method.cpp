@@ -14,16 +14,22 @@ namespace {
 
 // Quality figures for any method's UVs. Adjacency comes from welding corners
 // that coincide up to 1e-6 of the bounding-box diagonal: exact for welded
-// inputs; a noisy soup has (almost) no adjacency, so its continuity is vacuous
-// and adjacent_pairs says so.
+// inputs; a noisy soup has (almost) no adjacency, so continuity is omitted
+// there and adjacent_pairs says why.
 nlohmann::json uv_diagnostics(const Soup& soup, const std::vector<Vec2>& uvs) {
   quality::CornerUvs corners(soup.triangles.size());
   for (size_t t = 0; t < corners.size(); ++t)
     corners[t] = {uvs[t * 3], uvs[t * 3 + 1], uvs[t * 3 + 2]};
   double tolerance = 1e-6 * bounding_box(soup).diagonal();
   auto adjacency = quality::metric_adjacency(soup, nullptr, tolerance);
-  nlohmann::json uv = quality::to_json(quality::uv_metrics(soup, corners, adjacency));
+  quality::UvMetrics metrics = quality::uv_metrics(soup, corners, adjacency);
+  nlohmann::json uv = quality::to_json(metrics);
   uv["weld_tolerance"] = tolerance;
+  // Without adjacent pairs continuity would read 1.0 by vacuity: leave it out.
+  if (metrics.adjacent_pairs == 0) {
+    uv.erase("continuity");
+    uv.erase("continuity_1texel");
+  }
   return uv;
 }
 
