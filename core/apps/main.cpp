@@ -30,6 +30,7 @@ Usage:
                              the generated UV-check texture
       --texture-size N       size of the generated UV-check texture (default 1024)
       --draco                KHR_draco_mesh_compression output (lossless)
+      --normals              also write flat per-triangle NORMALs
       --allow-external-uris  let a local .gltf read buffers from files beside it
       --progress bar|json|none
                              bar: a progress bar when stderr is a terminal

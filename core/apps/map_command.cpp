@@ -19,7 +19,7 @@ namespace {
 struct MapArgs {
   std::string input, output, diagnostics, method = kDefaultMethod, texture;
   int texture_size = 1024;
-  bool draco = false, allow_external_uris = false;
+  bool draco = false, normals = false, allow_external_uris = false;
   ProgressMode progress = ProgressMode::bar;
 };
 
@@ -44,6 +44,7 @@ MapArgs parse(const std::vector<std::string>& args) {
       }
     }
     else if (a == "--draco") m.draco = true;
+    else if (a == "--normals") m.normals = true;
     else if (a == "--allow-external-uris") m.allow_external_uris = true;
     else if (a == "--progress") m.progress = parse_progress_mode(value());
     else if (!a.empty() && a[0] == '-') throw UsageError{"map: unknown option " + a};
@@ -89,6 +90,7 @@ int run_map(const std::vector<std::string>& args) {
   if (!m.texture.empty()) write_options.texture = io::texture_from_file(m.texture);
   write_options.check_texture_size = m.texture_size;
   write_options.draco = m.draco;
+  write_options.normals = m.normals;
 
   MethodRun run = compute_uvs(asset, m.method, progress);
 
@@ -118,7 +120,7 @@ int run_map(const std::vector<std::string>& args) {
     d["output"] = {{"file", m.output}, {"bytes", written.glb.size()},
                    {"meshes", written.meshes}, {"primitives", written.primitives},
                    {"vertices", written.vertices}, {"triangles", written.triangles},
-                   {"draco", m.draco},
+                   {"draco", m.draco}, {"normals", m.normals},
                    {"texture", {{"source", m.texture.empty() ? "uv_check" : "user"},
                                 {"mime_type", write_options.texture ? write_options.texture->mime_type : "image/png"}}}};
     d["warnings"] = warnings;

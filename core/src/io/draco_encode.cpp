@@ -44,6 +44,10 @@ DracoPrimitive draco_encode(const OutPrimitive& primitive, int position_bits, in
                                          primitive.positions, points);
   int texcoord_att = add_float_attribute(mesh, draco::GeometryAttribute::TEX_COORD, 2,
                                          primitive.uvs, points);
+  int normal_att = primitive.normals.empty()
+                       ? -1
+                       : add_float_attribute(mesh, draco::GeometryAttribute::NORMAL, 3,
+                                             primitive.normals, points);
 
   draco::Encoder encoder;
   if (position_bits > 0)
@@ -59,6 +63,7 @@ DracoPrimitive draco_encode(const OutPrimitive& primitive, int position_bits, in
   out.bytes.assign(buffer.data(), buffer.data() + buffer.size());
   out.position_id = static_cast<int>(mesh.attribute(position_att)->unique_id());
   out.texcoord_id = static_cast<int>(mesh.attribute(texcoord_att)->unique_id());
+  if (normal_att >= 0) out.normal_id = static_cast<int>(mesh.attribute(normal_att)->unique_id());
 
   draco::DecoderBuffer in;
   in.Init(reinterpret_cast<const char*>(out.bytes.data()), out.bytes.size());

@@ -86,6 +86,9 @@ struct Builder {
                                        {"min", lo}, {"max", hi}});
     attributes["TEXCOORD_0"] = accessor({{"bufferView", bin.add_view(as_bytes(p.uvs), kArrayBuffer)},
                                          {"componentType", kFloat}, {"count", n}, {"type", "VEC2"}});
+    if (!p.normals.empty())
+      attributes["NORMAL"] = accessor({{"bufferView", bin.add_view(as_bytes(p.normals), kArrayBuffer)},
+                                       {"componentType", kFloat}, {"count", n}, {"type", "VEC3"}});
     int indices;
     // 65535 is the primitive-restart value of unsigned short, so it may not be an index.
     if (n < 65535) {
@@ -110,10 +113,13 @@ struct Builder {
     attributes["POSITION"] = accessor({{"componentType", kFloat}, {"count", d.points},
                                        {"type", "VEC3"}, {"min", lo}, {"max", hi}});
     attributes["TEXCOORD_0"] = accessor({{"componentType", kFloat}, {"count", d.points}, {"type", "VEC2"}});
+    if (d.normal_id >= 0)
+      attributes["NORMAL"] = accessor({{"componentType", kFloat}, {"count", d.points}, {"type", "VEC3"}});
     int indices = accessor({{"componentType", d.points < 65535 ? kUnsignedShort : kUnsignedInt},
                             {"count", d.faces * 3}, {"type", "SCALAR"}});
     json extension = {{"bufferView", bin.add_view(d.bytes, 0)},
                       {"attributes", {{"POSITION", d.position_id}, {"TEXCOORD_0", d.texcoord_id}}}};
+    if (d.normal_id >= 0) extension["attributes"]["NORMAL"] = d.normal_id;
     return json{{"attributes", attributes}, {"indices", indices}, {"mode", kTriangles},
                 {"extensions", {{"KHR_draco_mesh_compression", extension}}}};
   }
@@ -138,7 +144,11 @@ WriteResult write_glb(const Asset& asset, std::span<const Vec2> corner_uvs,
   warn_dropped(document, result.warnings);
   InstanceTable table = instance_table(asset);
   std::vector<Float3> positions = corner_positions(asset, table, result.warnings);
-  std::vector<OutMesh> meshes = build_meshes(asset, table, positions, corner_uvs, result.nonfinite_uvs);
+  std::vector<OutMesh> meshes = build_meshes(asset, table, positions, corner_uvs, options.normals,
+                                             result.nonfinite_uvs, result.degenerate_normals);
+  if (result.degenerate_normals > 0)
+    result.warnings.push_back(std::to_string(result.degenerate_normals) +
+                              " triangle(s) are degenerate in float32; their NORMAL is +z");
   if (result.nonfinite_uvs > 0)
     result.warnings.push_back(std::to_string(result.nonfinite_uvs) +
                               " corner UV(s) were not finite and were written as (0,0)");

@@ -62,6 +62,7 @@ struct OutPrimitive {
   int32_t material = -1;  // source material index, -1: default material
   std::vector<float> positions;  // xyz per vertex
   std::vector<float> uvs;        // uv per vertex
+  std::vector<float> normals;    // xyz per vertex, or empty
   std::vector<uint32_t> indices;
   size_t vertex_count() const { return positions.size() / 3; }
 };
@@ -74,10 +75,13 @@ struct OutMesh {
 };
 
 // Groups soup triangles by origin and welds their corners. Non-finite UVs are
-// written as (0,0) and counted in nonfinite_uvs.
+// written as (0,0) and counted in nonfinite_uvs. With flat_normals every
+// corner also carries its triangle's unit normal (triangles degenerate in
+// float get +z, counted in degenerate_normals).
 std::vector<OutMesh> build_meshes(const Asset& asset, const InstanceTable& table,
                                   std::span<const Float3> corner_positions,
-                                  std::span<const Vec2> corner_uvs, size_t& nonfinite_uvs);
+                                  std::span<const Vec2> corner_uvs, bool flat_normals,
+                                  size_t& nonfinite_uvs, size_t& degenerate_normals);
 
 // The document's materials with baseColorTexture set to texture_index on
 // TEXCOORD_0 and everything that referred to the old UVs dropped (warned once
@@ -107,11 +111,12 @@ struct DracoPrimitive {
   std::vector<uint8_t> bytes;
   int position_id = -1;  // Draco attribute unique ids, for the extension object
   int texcoord_id = -1;
+  int normal_id = -1;    // -1 when the primitive has no normals
   size_t points = 0;     // vertex count after decoding (the accessors' count)
   size_t faces = 0;
 };
 
-// Encodes positions + UVs (quantization bits 0 = lossless) and decodes the
+// Encodes positions + UVs (+ normals when present; quantization bits 0 = lossless) and decodes the
 // result once to learn the counts the decoder will produce.
 DracoPrimitive draco_encode(const OutPrimitive& primitive, int position_bits, int texcoord_bits);
 

@@ -283,6 +283,40 @@ TEST(WriteGlb, DracoDecodesBackToTheSameTriangles) {
   EXPECT_TRUE(want == got);
 }
 
+TEST(WriteGlb, FlatNormalsAreUnitAndPerpendicular) {
+  Asset a = asset_from(shapes::torus(1.0, 0.4, 16, 8), 1e-3);
+  WriteOptions options;
+  options.normals = true;
+  options.check_texture_size = 64;
+  for (bool draco : {false, true}) {
+    options.draco = draco;
+    WriteResult r = write_glb(a, baseline::box_projection(a.soup).corner_uvs, options);
+    Glb glb(r.glb);
+    const json& prim = glb.doc["meshes"][0]["primitives"][0];
+    ASSERT_TRUE(prim["attributes"].contains("NORMAL")) << draco;
+    if (draco) {
+      EXPECT_TRUE(prim["extensions"]["KHR_draco_mesh_compression"]["attributes"].contains("NORMAL"));
+      continue;  // payload contents are checked by DracoDecodesBackToTheSameTriangles
+    }
+    std::vector<float> p = glb.floats(prim["attributes"]["POSITION"]);
+    std::vector<float> n = glb.floats(prim["attributes"]["NORMAL"]);
+    std::vector<uint32_t> idx = glb.indices(prim["indices"]);
+    for (size_t t = 0; t < idx.size(); t += 3) {
+      Vec3 c[3], nn[3];
+      for (int k = 0; k < 3; ++k) {
+        uint32_t v = idx[t + k];
+        c[k] = {p[v * 3], p[v * 3 + 1], p[v * 3 + 2]};
+        nn[k] = {n[v * 3], n[v * 3 + 1], n[v * 3 + 2]};
+      }
+      Vec3 want = normalized(cross(c[1] - c[0], c[2] - c[0]));
+      for (int k = 0; k < 3; ++k) {
+        EXPECT_NEAR(norm(nn[k]), 1.0, 1e-6);
+        EXPECT_NEAR(dot(nn[k], want), 1.0, 1e-6);
+      }
+    }
+  }
+}
+
 TEST(WriteGlb, NonFiniteUvsAreWrittenAsZeroWithAWarning) {
   Asset a = asset_from(shapes::icosphere(1.0, 0));
   std::vector<Vec2> uvs = baseline::box_projection(a.soup).corner_uvs;

@@ -18,7 +18,7 @@
 //  - materials keep name, factors, alphaMode, alphaCutoff, doubleSided,
 //    emissiveFactor; baseColorTexture becomes our texture on TEXCOORD_0; other
 //    textures (they referred to the old UVs) and material extensions are dropped
-//    with a warning;
+//    with a warning; NORMAL only when asked (flat, per triangle);
 //  - skins, animations and morph targets are dropped with a warning: the
 //    output is the static bind pose;
 //  - the texture image lives in the BIN chunk (bufferView + mimeType);
@@ -43,6 +43,9 @@ struct WriteOptions {
   std::optional<Texture> texture;
   int check_texture_size = 1024;
   bool draco = false;
+  // Flat NORMALs (each triangle's unit normal in its own frame): faceted
+  // shading, which is what a soup is; splits vertices between facets.
+  bool normals = false;
   // Draco quantization bits; 0 keeps the float32 values lossless (bit-exact).
   int draco_position_bits = 0;
   int draco_texcoord_bits = 0;
@@ -57,6 +60,7 @@ struct WriteResult {
   size_t vertices = 0;    // after welding equal (position, UV) corners
   size_t triangles = 0;
   size_t nonfinite_uvs = 0;  // corners whose UV was NaN/inf, written as (0,0)
+  size_t degenerate_normals = 0;  // with normals: triangles degenerate in float (+z written)
   double seconds = 0;
 };
 
