@@ -20,6 +20,7 @@ struct ParamSpec {
   nlohmann::json fallback;  // default; null: not passed unless given
   double lo = 0, hi = 0;    // integer/number range
   std::vector<std::string> values = {};  // choice
+  bool power_of_two = false;             // integer
 };
 
 // THE mapping. Keep in sync with `soupuv map --help` (flags not listed there are
@@ -33,7 +34,7 @@ const std::vector<ParamSpec>& specs() {
       {"tolerance", "--tolerance", Kind::number, nullptr, 1e-12, 1},
       {"steps", "--steps", Kind::integer, nullptr, 1, 100000},
       {"integrator", "--integrator", Kind::choice, nullptr, 0, 0, {"euler", "rk4", "rk45"}},
-      {"texture_size", "--texture-size", Kind::integer, nullptr, 16, 16384},
+      {"texture_size", "--texture-size", Kind::integer, nullptr, 64, 4096, {}, true},
       {"padding", "--padding", Kind::integer, nullptr, 0, 256},
       {"draco", "--draco", Kind::boolean, false},
       // Special: the scheduler passes --debug-dir with the job's work directory.
@@ -106,6 +107,8 @@ ParamError validate_params(const nlohmann::json& in, const WorkerCapabilities& c
         if (!v.is_number_integer() || v.get<double>() < s.lo || v.get<double>() > s.hi)
           return {name + " must be an integer in [" + std::to_string(int64_t(s.lo)) + ", " +
                   std::to_string(int64_t(s.hi)) + "]"};
+        if (s.power_of_two && (v.get<int64_t>() & (v.get<int64_t>() - 1)) != 0)
+          return {name + " must be a power of two"};
         break;
       case Kind::number:
         if (!v.is_number() || !std::isfinite(v.get<double>()) || v.get<double>() < s.lo ||
@@ -158,6 +161,7 @@ nlohmann::json describe_params(const WorkerCapabilities& caps) {
     if (s.kind == Kind::integer || s.kind == Kind::number) {
       d["min"] = s.lo;
       d["max"] = s.hi;
+      if (s.power_of_two) d["power_of_two"] = true;
     }
     if (s.kind == Kind::choice) d["values"] = s.values;
     out.push_back(d);

@@ -86,6 +86,7 @@ TEST(Params, ValidatesAndMapsToFlags) {
   EXPECT_EQ(flags, (std::vector<std::string>{"--method", "box", "--texture-size", "512", "--draco"}));
   EXPECT_TRUE(validate_params({{"method", "magic"}}, caps, out));
   EXPECT_TRUE(validate_params({{"texture_size", 3}}, caps, out));
+  EXPECT_TRUE(validate_params({{"texture_size", 500}}, caps, out));  // not a power of two
   EXPECT_TRUE(validate_params({{"texture_size", "big"}}, caps, out));
   EXPECT_TRUE(validate_params({{"whatever", 1}}, caps, out));
   EXPECT_TRUE(validate_params(nlohmann::json::array(), caps, out));

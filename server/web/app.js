@@ -1,0 +1,305 @@
+// The upload page: builds the parameter form from GET /v1/params, submits the
+// model as multipart/form-data, polls the job, then shows the result GLB in a
+// three.js viewer (orbit controls; toggles for debug layers when the job has
+// them), the UV layout, the diagnostics as a table and, when the diagnostics
+// carry a solver history, its convergence plot.
+import * as THREE from 'three';
+import { OrbitControls } from 'three/addons/controls/OrbitControls.js';
+import { GLTFLoader } from 'three/addons/loaders/GLTFLoader.js';
+
+const $ = (id) => document.getElementById(id);
+const state = { file: null, params: [], token: localStorage.getItem('soupuv-token') || '' };
+$('token-input').value = state.token;
+
+function authHeaders() {
+  const t = $('token-input').value.trim();
+  if (t) localStorage.setItem('soupuv-token', t);
+  return t ? { Authorization: `Bearer ${t}` } : {};
+}
+
+async function problemText(res) {
+  try {
+    const p = await res.json();
+    return `${p.title || res.status}: ${p.detail || ''}`;
+  } catch {
+    return `HTTP ${res.status}`;
+  }
+}
+
+// ---- parameters -------------------------------------------------------------
+async function loadParams() {
+  const res = await fetch('/v1/params', { headers: authHeaders() });
+  if (!res.ok) return showFormError(await problemText(res));
+  const { params } = await res.json();
+  state.params = params;
+  const box = $('params');
+  for (const p of params) {
+    const label = document.createElement('label');
+    label.textContent = p.name.replace(/_/g, ' ');
+    if (!p.supported) {
+      label.classList.add('unsupported');
+      label.title = `not supported by this server's soupuv build (${p.flag})`;
+    }
+    let input;
+    if (p.values) {
+      input = document.createElement('select');
+      if (p.default === null) input.append(new Option('(default)', ''));
+      for (const v of p.values) input.append(new Option(v, v, false, v === p.default));
+    } else if (p.type === 'boolean') {
+      input = document.createElement('input');
+      input.type = 'checkbox';
+      input.checked = p.default === true;
+    } else {
+      input = document.createElement('input');
+      input.type = 'number';
+      input.placeholder = 'default';
+      if (p.min !== undefined) input.min = p.min;
+      if (p.max !== undefined) input.max = p.max;
+      input.step = p.type === 'integer' ? '1' : 'any';
+      if (p.default !== null) input.value = p.default;
+    }
+    input.name = p.name;
+    input.disabled = !p.supported;
+    label.append(input);
+    box.append(label);
+  }
+}
+
+function collectParams() {
+  const out = {};
+  for (const p of state.params) {
+    if (!p.supported) continue;
+    const el = $('params').querySelector(`[name="${p.name}"]`);
+    if (p.type === 'boolean') {
+      if (el.checked !== (p.default === true)) out[p.name] = el.checked;
+    } else if (el.value !== '') {
+      out[p.name] = p.type === 'integer' ? parseInt(el.value, 10) : p.type === 'number' ? parseFloat(el.value) : el.value;
+    }
+  }
+  return out;
+}
+
+// ---- file choice ----------------------------------------------------------------
+function chooseFile(file) {
+  state.file = file;
+  $('drop-text').textContent = file ? `${file.name} (${(file.size / 1024).toFixed(0)} KiB)` : 'Drop a file here';
+  $('submit-button').disabled = !file;
+}
+const zone = $('drop-zone');
+zone.addEventListener('dragover', (e) => { e.preventDefault(); zone.classList.add('over'); });
+zone.addEventListener('dragleave', () => zone.classList.remove('over'));
+zone.addEventListener('drop', (e) => {
+  e.preventDefault();
+  zone.classList.remove('over');
+  if (e.dataTransfer.files.length) chooseFile(e.dataTransfer.files[0]);
+});
+$('file-input').addEventListener('change', (e) => chooseFile(e.target.files[0] || null));
+
+function showFormError(text) {
+  $('form-error').textContent = text;
+  $('form-error').hidden = !text;
+}
+
+// ---- submit and poll ----------------------------------------------------------
+$('job-form').addEventListener('submit', async (e) => {
+  e.preventDefault();
+  showFormError('');
+  const form = new FormData();
+  // Browsers label unknown extensions application/octet-stream; the server
+  // also looks at the file name, but say what we know.
+  const ext = state.file.name.split('.').pop().toLowerCase();
+  const type = { glb: 'model/gltf-binary', gltf: 'model/gltf+json', drc: 'application/octet-stream' }[ext] || state.file.type;
+  form.append('file', new Blob([state.file], { type }), state.file.name);
+  form.append('params', new Blob([JSON.stringify(collectParams())], { type: 'application/json' }));
+  const tex = $('texture-input').files[0];
+  if (tex) form.append('texture', tex, tex.name);
+  $('submit-button').disabled = true;
+  const res = await fetch('/v1/jobs', { method: 'POST', body: form, headers: authHeaders() });
+  $('submit-button').disabled = false;
+  if (res.status !== 202) return showFormError(await problemText(res));
+  const job = await res.json();
+  $('result-panel').hidden = true;
+  $('job-panel').hidden = false;
+  $('job-id').textContent = job.id;
+  poll(job.id);
+});
+
+async function poll(id) {
+  for (;;) {
+    const res = await fetch(`/v1/jobs/${id}`, { headers: authHeaders() });
+    if (!res.ok) return showFormError(await problemText(res));
+    const job = await res.json();
+    showJob(job);
+    if (['succeeded', 'failed', 'canceled'].includes(job.state)) {
+      if (job.state === 'succeeded') await showResult(job);
+      return;
+    }
+    await new Promise((r) => setTimeout(r, 300));
+  }
+}
+
+function showJob(job) {
+  const s = $('job-state');
+  s.textContent = job.state;
+  s.dataset.state = job.state;
+  $('job-stage').textContent = job.state === 'running' && job.stage ? `stage: ${job.stage}` : '';
+  $('job-progress').value = job.state === 'running' ? job.fraction || 0 : job.state === 'succeeded' ? 1 : 0;
+  $('job-error').hidden = !job.error;
+  if (job.error) $('job-error').textContent = `${job.error.code}: ${job.error.detail}`;
+  const dl = $('downloads');
+  dl.textContent = '';
+  for (const [name, href] of Object.entries(job.links || {})) {
+    if (name === 'self') continue;
+    const a = document.createElement('a');
+    a.href = href;
+    a.textContent = name;
+    a.download = '';
+    dl.append(a, ' ');
+  }
+}
+
+// ---- result -----------------------------------------------------------------------
+async function fetchBuffer(href) {
+  const res = await fetch(href, { headers: authHeaders() });
+  if (!res.ok) throw new Error(await problemText(res));
+  return res.arrayBuffer();
+}
+
+async function showResult(job) {
+  $('result-panel').hidden = false;
+  const layers = [{ name: 'textured soup', href: job.links.result, visible: true }];
+  if (job.links['proxy.glb']) layers.push({ name: 'proxy', href: job.links['proxy.glb'], visible: false });
+  if (job.links['field-lines.glb']) layers.push({ name: 'field lines', href: job.links['field-lines.glb'], visible: false });
+  await viewer.show(layers);
+  if (job.links['uv-layout.png']) {
+    const blob = new Blob([await fetchBuffer(job.links['uv-layout.png'])], { type: 'image/png' });
+    $('uv-layout').src = URL.createObjectURL(blob);
+    $('uv-figure').hidden = false;
+  }
+  if (job.links.diagnostics) {
+    const diag = JSON.parse(new TextDecoder().decode(await fetchBuffer(job.links.diagnostics)));
+    showDiagnostics(diag);
+    plotConvergence(diag);
+  }
+}
+
+function flatten(obj, prefix = '', out = []) {
+  for (const [k, v] of Object.entries(obj)) {
+    const key = prefix ? `${prefix}.${k}` : k;
+    if (v && typeof v === 'object' && !Array.isArray(v)) flatten(v, key, out);
+    else if (Array.isArray(v) && v.length > 8) out.push([key, `[${v.length} values]`]);
+    else out.push([key, typeof v === 'number' && !Number.isInteger(v) ? v.toPrecision(4) : JSON.stringify(v)]);
+  }
+  return out;
+}
+
+function showDiagnostics(diag) {
+  const body = $('diagnostics').querySelector('tbody');
+  body.textContent = '';
+  for (const [k, v] of flatten(diag)) {
+    const tr = body.insertRow();
+    tr.insertCell().textContent = k;
+    tr.insertCell().textContent = v;
+  }
+}
+
+// The first numeric array named like a residual history anywhere in the
+// diagnostics (the charge solver's), drawn on a log scale.
+function findHistory(obj, path = '') {
+  for (const [k, v] of Object.entries(obj || {})) {
+    const p = path ? `${path}.${k}` : k;
+    if (Array.isArray(v) && v.length > 1 && v.every((x) => typeof x === 'number') && /resid|history|converg/i.test(k)) return [p, v];
+    if (v && typeof v === 'object' && !Array.isArray(v)) {
+      const found = findHistory(v, p);
+      if (found) return found;
+    }
+  }
+  return null;
+}
+
+function plotConvergence(diag) {
+  const found = findHistory(diag);
+  $('plot-figure').hidden = !found;
+  if (!found) return;
+  const [name, values] = found;
+  $('plot-caption').textContent = `${name} (log scale) per iteration`;
+  const c = $('convergence');
+  const g = c.getContext('2d');
+  g.clearRect(0, 0, c.width, c.height);
+  const logs = values.map((v) => Math.log10(Math.max(v, 1e-300)));
+  const lo = Math.min(...logs), hi = Math.max(...logs);
+  const x = (i) => 30 + (i / (values.length - 1)) * (c.width - 40);
+  const y = (l) => 10 + (hi === lo ? 0.5 : (hi - l) / (hi - lo)) * (c.height - 30);
+  g.strokeStyle = '#999';
+  g.strokeRect(30, 10, c.width - 40, c.height - 30);
+  g.fillStyle = '#333';
+  g.font = '11px sans-serif';
+  g.fillText(`1e${hi.toFixed(0)}`, 0, 14);
+  g.fillText(`1e${lo.toFixed(0)}`, 0, c.height - 20);
+  g.strokeStyle = '#1d3557';
+  g.beginPath();
+  logs.forEach((l, i) => (i ? g.lineTo(x(i), y(l)) : g.moveTo(x(i), y(l))));
+  g.stroke();
+}
+
+// ---- viewer -------------------------------------------------------------------------
+const viewer = (() => {
+  const canvas = $('viewer');
+  // preserveDrawingBuffer: the browser test reads the pixels back.
+  const renderer = new THREE.WebGLRenderer({ canvas, antialias: true, preserveDrawingBuffer: true });
+  renderer.setClearColor(0x20262e);
+  const scene = new THREE.Scene();
+  scene.add(new THREE.HemisphereLight(0xffffff, 0x445566, 2.0));
+  const sun = new THREE.DirectionalLight(0xffffff, 1.5);
+  sun.position.set(1, 2, 3);
+  scene.add(sun);
+  const camera = new THREE.PerspectiveCamera(45, 4 / 3, 0.01, 1000);
+  const controls = new OrbitControls(camera, canvas);
+  let roots = [];
+
+  function resize() {
+    const w = canvas.clientWidth || 800, h = canvas.clientHeight || 600;
+    renderer.setSize(w, h, false);
+    camera.aspect = w / h;
+    camera.updateProjectionMatrix();
+  }
+  function render() { renderer.render(scene, camera); }
+  controls.addEventListener('change', render);
+  window.addEventListener('resize', () => { resize(); render(); });
+
+  async function show(layers) {
+    for (const r of roots) scene.remove(r);
+    roots = [];
+    $('layers').textContent = '';
+    const loader = new GLTFLoader();
+    for (const layer of layers) {
+      const gltf = await loader.parseAsync(await fetchBuffer(layer.href), '');
+      gltf.scene.visible = layer.visible;
+      scene.add(gltf.scene);
+      roots.push(gltf.scene);
+      const label = document.createElement('label');
+      const box = document.createElement('input');
+      box.type = 'checkbox';
+      box.checked = layer.visible;
+      box.addEventListener('change', () => { gltf.scene.visible = box.checked; render(); });
+      label.append(box, ` ${layer.name}`);
+      $('layers').append(label);
+    }
+    // Frame the first layer.
+    resize();
+    const bounds = new THREE.Box3().setFromObject(roots[0]);
+    const size = bounds.getSize(new THREE.Vector3()).length() || 1;
+    const center = bounds.getCenter(new THREE.Vector3());
+    camera.near = size / 100;
+    camera.far = size * 100;
+    camera.position.copy(center).add(new THREE.Vector3(0.6, 0.5, 1).normalize().multiplyScalar(size * 1.2));
+    camera.updateProjectionMatrix();
+    controls.target.copy(center);
+    controls.update();
+    render();
+    window.__soupuvViewerReady = true;  // for the browser test
+  }
+  return { show };
+})();
+
+loadParams();

@@ -1,0 +1,100 @@
+// Browser test of the upload page: starts soupuv-server (real CLI as worker,
+// --method box) on 127.0.0.1 with a free port, drives Debian's chromium through
+// playwright-core, uploads a sample, waits for success, checks that the viewer
+// drew (canvas pixels not all background), that the diagnostics table filled,
+// and saves a screenshot.
+//
+//   node upload_page.test.mjs --server BIN --worker BIN --sample FILE --out DIR
+// Prints "1 passed, 0 failed" or "0 passed, 1 failed" and exits accordingly.
+import { spawn } from 'node:child_process';
+import fs from 'node:fs';
+import path from 'node:path';
+import { chromium } from 'playwright-core';
+
+const args = Object.fromEntries(process.argv.slice(2).reduce((acc, a, i, all) => {
+  if (a.startsWith('--')) acc.push([a.slice(2), all[i + 1]]);
+  return acc;
+}, []));
+for (const k of ['server', 'worker', 'sample', 'out']) {
+  if (!args[k]) { console.error(`missing --${k}`); process.exit(2); }
+}
+fs.mkdirSync(args.out, { recursive: true });
+const dataDir = fs.mkdtempSync(path.join(args.out, 'data-'));
+const profile = fs.mkdtempSync(path.join(args.out, 'profile-'));
+
+function startServer() {
+  return new Promise((resolve, reject) => {
+    const proc = spawn(args.server, ['--host', '127.0.0.1', '--port', '0', '--data-dir', dataDir,
+      '--worker-bin', args.worker, '--workers', '1'], { stdio: ['ignore', 'ignore', 'pipe'] });
+    let log = '';
+    const timer = setTimeout(() => reject(new Error(`server did not start:\n${log}`)), 30000);
+    proc.stderr.on('data', (d) => {
+      log += d;
+      const m = log.match(/"msg":"listening","port":(\d+)/);
+      if (m) { clearTimeout(timer); resolve({ proc, port: Number(m[1]), log: () => log }); }
+    });
+    proc.on('exit', (code) => reject(new Error(`server exited ${code}:\n${log}`)));
+  });
+}
+
+let server, browser, failed = null;
+try {
+  server = await startServer();
+  browser = await chromium.launch({
+    executablePath: '/usr/bin/chromium',
+    headless: true,
+    args: ['--no-sandbox', '--disable-gpu', '--disable-background-networking', '--disable-component-update',
+      '--disable-sync', '--no-first-run', `--user-data-dir=${profile}`, '--use-angle=swiftshader',
+      '--enable-unsafe-swiftshader'],
+  });
+  const page = await browser.newPage({ viewport: { width: 1280, height: 900 } });
+  const consoleErrors = [];
+  page.on('console', (m) => { if (m.type() === 'error') consoleErrors.push(m.text()); });
+  page.on('pageerror', (e) => consoleErrors.push(String(e)));
+  await page.goto(`http://127.0.0.1:${server.port}/`);
+  await page.waitForSelector('#params label');  // the form came from /v1/params
+  await page.setInputFiles('#file-input', args.sample);
+  await page.click('#submit-button');
+  await page.waitForFunction(() => ['succeeded', 'failed', 'canceled'].includes(
+    document.getElementById('job-state').dataset.state), null, { timeout: 90000 });
+  const jobState = await page.$eval('#job-state', (e) => e.dataset.state);
+  if (jobState !== 'succeeded') throw new Error(`job ended ${jobState}: ${await page.$eval('#job-error', (e) => e.textContent)}`);
+  await page.waitForFunction(() => window.__soupuvViewerReady === true, null, { timeout: 30000 });
+  // Read the WebGL canvas back through a 2D canvas and count non-background pixels.
+  const drawn = await page.evaluate(() => {
+    const src = document.getElementById('viewer');
+    const c = document.createElement('canvas');
+    c.width = src.width; c.height = src.height;
+    const g = c.getContext('2d');
+    g.drawImage(src, 0, 0);
+    const px = g.getImageData(0, 0, c.width, c.height).data;
+    const bg = [0x20, 0x26, 0x2e];
+    let other = 0, colors = new Set();
+    for (let i = 0; i < px.length; i += 4) {
+      const d = Math.abs(px[i] - bg[0]) + Math.abs(px[i + 1] - bg[1]) + Math.abs(px[i + 2] - bg[2]);
+      if (d > 24) { other++; colors.add((px[i] >> 4) << 8 | (px[i + 1] >> 4) << 4 | (px[i + 2] >> 4)); }
+    }
+    return { fraction: other / (px.length / 4), colors: colors.size, width: c.width, height: c.height };
+  });
+  const rows = await page.$$eval('#diagnostics tbody tr', (r) => r.length);
+  await page.screenshot({ path: path.join(args.out, 'upload-page.png'), fullPage: true });
+  console.log(JSON.stringify({ drawn, diagnostics_rows: rows, console_errors: consoleErrors }));
+  if (drawn.fraction < 0.02) throw new Error(`viewer drew almost nothing (${(drawn.fraction * 100).toFixed(2)}% non-background)`);
+  if (drawn.colors < 8) throw new Error(`viewer shows ${drawn.colors} colour classes: no texture?`);
+  if (rows < 5) throw new Error(`diagnostics table has ${rows} rows`);
+  if (consoleErrors.length) throw new Error(`page errors: ${consoleErrors.join(' | ')}`);
+} catch (e) {
+  failed = e;
+} finally {
+  if (browser) await browser.close();
+  if (server) server.proc.kill('SIGTERM');
+  fs.rmSync(profile, { recursive: true, force: true });
+  fs.rmSync(dataDir, { recursive: true, force: true });
+}
+if (failed) {
+  console.error(`FAIL: ${failed.message}`);
+  console.log('0 passed, 1 failed');
+  process.exit(1);
+}
+console.log(`screenshot: ${path.join(args.out, 'upload-page.png')}`);
+console.log('1 passed, 0 failed');

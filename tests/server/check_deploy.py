@@ -1,0 +1,112 @@
+#!/usr/bin/env python3
+"""Checks the deployment files as far as can be done without Docker or a cluster:
+every YAML parses; ports, paths, probes and SOUPUV_* variables agree with what
+soupuv-server --help documents; the Dockerfile runs as non-root with a
+healthcheck on /healthz; nginx config passes `nginx -t` (when nginx exists).
+
+usage: check_deploy.py SOURCE_DIR SOUPUV_SERVER_BIN
+Prints 'N passed, M failed'; exits non-zero on any failure."""
+import os
+import re
+import shutil
+import subprocess
+import sys
+import tempfile
+
+import yaml
+
+src, server_bin = sys.argv[1], sys.argv[2]
+results = []
+
+
+def check(name, ok, detail=""):
+    results.append(ok)
+    print(("ok   " if ok else "FAIL ") + name + ("" if ok else ": " + detail))
+
+
+help_text = subprocess.run([server_bin, "--help"], capture_output=True, text=True, check=True).stdout
+env_vars = set(re.findall(r"\[(SOUPUV_[A-Z_]+)\]", help_text))
+check("server --help lists env vars", len(env_vars) >= 10, help_text)
+for flag in ["--host", "--port", "--data-dir", "--workers", "--queue-capacity", "--tokens-file"]:
+    check(f"contract flag {flag}", flag in help_text)
+
+
+def load_all(path):
+    with open(path) as f:
+        return [d for d in yaml.safe_load_all(f) if d is not None]
+
+
+# ---- compose --------------------------------------------------------------------
+compose = load_all(os.path.join(src, "deploy/docker-compose.yml"))[0]
+svc = compose["services"]["soupuv"]
+env = svc["environment"]
+check("compose env vars are server options", set(env) <= env_vars, str(set(env) - env_vars))
+port = env["SOUPUV_PORT"]
+check("compose exposes the server port", str(port) in [str(p) for p in svc["expose"]])
+check("compose healthcheck hits /healthz on the port",
+      f"127.0.0.1:{port}/healthz" in " ".join(svc["healthcheck"]["test"]))
+check("compose dockerfile exists", os.path.exists(os.path.join(src, "deploy", svc["build"]["context"], svc["build"]["dockerfile"])))
+data_mount = [v for v in svc["volumes"] if v.endswith(":" + env["SOUPUV_DATA_DIR"])]
+check("compose volume mounted at the data dir", len(data_mount) == 1, str(svc["volumes"]))
+nginx_mount = compose["services"]["nginx"]["volumes"][0].split(":")[0]
+check("compose nginx config exists", os.path.exists(os.path.join(src, "deploy", nginx_mount)))
+
+# ---- kubernetes ---------------------------------------------------------------------
+docs = []
+for name in sorted(os.listdir(os.path.join(src, "deploy/k8s"))):
+    if name.endswith(".yaml"):
+        docs += load_all(os.path.join(src, "deploy/k8s", name))
+kinds = {d["kind"]: d for d in docs}
+for k in ["Deployment", "Service", "PersistentVolumeClaim", "ConfigMap"]:
+    check(f"k8s has a {k}", k in kinds)
+cm = kinds["ConfigMap"]["data"]
+check("ConfigMap keys are server options", set(cm) <= env_vars, str(set(cm) - env_vars))
+pod = kinds["Deployment"]["spec"]["template"]["spec"]
+c = pod["containers"][0]
+cport = c["ports"][0]["containerPort"]
+check("container port = SOUPUV_PORT", str(cport) == cm["SOUPUV_PORT"], f"{cport} vs {cm['SOUPUV_PORT']}")
+check("liveness probe /healthz", c["livenessProbe"]["httpGet"]["path"] == "/healthz")
+check("readiness probe /readyz", c["readinessProbe"]["httpGet"]["path"] == "/readyz")
+check("probes use the named port", c["livenessProbe"]["httpGet"]["port"] == c["ports"][0]["name"])
+check("data volume at SOUPUV_DATA_DIR", c["volumeMounts"][0]["mountPath"] == cm["SOUPUV_DATA_DIR"])
+check("volume is the PVC", pod["volumes"][0]["persistentVolumeClaim"]["claimName"] == kinds["PersistentVolumeClaim"]["metadata"]["name"])
+check("ConfigMap referenced", c["envFrom"][0]["configMapRef"]["name"] == kinds["ConfigMap"]["metadata"]["name"])
+check("runs as non-root", pod["securityContext"]["runAsNonRoot"] is True and pod["securityContext"]["runAsUser"] != 0)
+svc_k = kinds["Service"]["spec"]
+check("Service targets the pod port", svc_k["ports"][0]["targetPort"] == c["ports"][0]["name"])
+check("Service selects the pods", svc_k["selector"] == kinds["Deployment"]["spec"]["selector"]["matchLabels"])
+check("single replica with Recreate (SQLite store)", kinds["Deployment"]["spec"]["replicas"] == 1
+      and kinds["Deployment"]["spec"]["strategy"]["type"] == "Recreate")
+
+# ---- Dockerfile -------------------------------------------------------------------------
+dockerfile = open(os.path.join(src, "docker/Dockerfile")).read()
+check("multi-stage on Debian 12", len(re.findall(r"^FROM debian:12", dockerfile, re.M)) >= 2)
+user = re.findall(r"^USER (\S+)", dockerfile, re.M)
+check("non-root USER", bool(user) and not user[-1].startswith("0") and user[-1] != "root", str(user))
+check("HEALTHCHECK on /healthz", re.search(r"HEALTHCHECK[\s\S]*?/healthz", dockerfile) is not None)
+docker_env = set(re.findall(r"(?<!-D)(SOUPUV_[A-Z_]+)=", dockerfile))
+check("Dockerfile env vars are server options", docker_env <= env_vars, str(docker_env - env_vars))
+m = re.search(r"SOUPUV_PORT=(\d+)", dockerfile)
+check("EXPOSE = SOUPUV_PORT", m is not None and f"EXPOSE {m.group(1)}" in dockerfile)
+check("installs deps through scripts/install-deps.sh", "scripts/install-deps.sh" in dockerfile)
+
+# ---- nginx --------------------------------------------------------------------------------
+conf = open(os.path.join(src, "deploy/nginx/soupuv.conf")).read()
+check("nginx streams uploads", "proxy_request_buffering off" in conf)
+m = re.search(r"client_max_body_size (\d+)m", conf)
+check("nginx body cap = server default upload cap", m is not None and int(m.group(1)) * 2**20 == 268435456)
+nginx = shutil.which("nginx") or ("/usr/sbin/nginx" if os.path.exists("/usr/sbin/nginx") else None)
+if nginx:
+    with tempfile.TemporaryDirectory() as d:
+        site = conf.replace("server soupuv:8080;", "server 127.0.0.1:8080;").replace("listen 80;", "listen 127.0.0.1:18999;")
+        main = (f"pid {d}/nginx.pid; error_log {d}/error.log; events {{}}\n"
+                f"http {{ access_log off; client_body_temp_path {d}; proxy_temp_path {d}; "
+                f"fastcgi_temp_path {d}; uwsgi_temp_path {d}; scgi_temp_path {d};\n{site}\n}}\n")
+        open(os.path.join(d, "nginx.conf"), "w").write(main)
+        r = subprocess.run([nginx, "-t", "-p", d, "-c", os.path.join(d, "nginx.conf")], capture_output=True, text=True)
+        check("nginx -t accepts deploy/nginx/soupuv.conf", r.returncode == 0, r.stderr)
+
+passed = sum(results)
+failed = len(results) - passed
+print(f"{passed} passed, {failed} failed")
+sys.exit(1 if failed else 0)
