@@ -10,6 +10,7 @@
 
 #include "atlas/atlas_metrics.h"
 #include "atlas/chart_mesh.h"
+#include "atlas/flat_split.h"
 #include "atlas/mesh_topology.h"
 #include "atlas/pack.h"
 #include "atlas/parameterize.h"
@@ -24,11 +25,6 @@ namespace {
 using Clock = std::chrono::steady_clock;
 double since(Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); }
 
-struct FlatChart {
-  ChartMesh mesh;
-  std::vector<Vec2> uv;
-};
-
 }  // namespace
 
 nlohmann::json AtlasResult::diagnostics() const {
@@ -42,6 +38,7 @@ nlohmann::json AtlasResult::diagnostics() const {
           {"overlap", s.overlap},
           {"utilization", s.utilization},
           {"splits", s.splits},
+          {"packing_splits", s.packing_splits},
           {"seam_edges", s.seam_edges},
           {"texture_size", atlas.texture_size},
           {"padding_px", atlas.padding_px},
@@ -132,11 +129,55 @@ AtlasResult build_atlas(const TriMesh& mesh, const AtlasOptions& options, Progre
   }
   stats.seconds_parameterize = since(t1);
 
+  // Packing rounds: while utilisation stays below the target, the largest
+  // charts are halved (their UVs kept) and everything is packed again; the
+  // best round wins.
   const auto t2 = Clock::now();
-  progress.update("atlas.pack", 0);
-  std::vector<PackChart> pack_input;
-  for (FlatChart& c : done) pack_input.push_back({&c.uv, &c.mesh.tri});
-  PackResult packed = pack_charts(pack_input, options.texture_size, options.padding_px);
+  std::vector<FlatChart> best_charts;
+  PackResult packed;
+  packed.utilization = -1;
+  int splits_so_far = 0;
+  for (int round = 0;; ++round) {
+    progress.update("atlas.pack", round / (options.packing_split_rounds + 1.0));
+    std::vector<FlatChart> trial = done;
+    std::vector<PackChart> pack_input;
+    for (FlatChart& c : trial) pack_input.push_back({&c.uv, &c.mesh.tri});
+    PackResult p = pack_charts(pack_input, options.texture_size, options.padding_px);
+    if (p.utilization > packed.utilization) {
+      packed = p;
+      best_charts = std::move(trial);
+      stats.packing_splits = splits_so_far;
+    }
+    // Halving pays only while charts are few and big; among hundreds of
+    // charts the packer already fills gaps with small ones.
+    if (p.utilization >= options.packing_split_below || round >= options.packing_split_rounds ||
+        done.size() > 64)
+      break;
+    std::vector<double> area(done.size(), 0);
+    double largest = 0;
+    for (size_t c = 0; c < done.size(); ++c) {
+      for (const auto& t : done[c].mesh.tri)
+        area[c] += 0.5 * std::fabs(cross(done[c].uv[t[1]] - done[c].uv[t[0]], done[c].uv[t[2]] - done[c].uv[t[0]]));
+      largest = std::max(largest, area[c]);
+    }
+    std::vector<FlatChart> next;
+    int split_now = 0;
+    for (size_t c = 0; c < done.size(); ++c) {
+      if (area[c] >= 0.5 * largest) {
+        if (auto halves = split_flat_chart(done[c], mesh, topology, seam, face_chart, next_id, face_local)) {
+          next.push_back(std::move(halves->first));
+          next.push_back(std::move(halves->second));
+          ++split_now;
+          continue;
+        }
+      }
+      next.push_back(std::move(done[c]));
+    }
+    done = std::move(next);
+    splits_so_far += split_now;
+    if (split_now == 0) break;
+  }
+  done = std::move(best_charts);
   stats.seconds_pack = since(t2);
 
   Atlas& atlas = result.atlas;

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <numeric>
+#include <climits>
 
 #include "soupuv/errors.h"
 
@@ -29,26 +30,11 @@ std::vector<Vec2> convex_hull(std::vector<Vec2> p) {
 // Rotates the chart so its minimal-area bounding rectangle is axis-aligned and
 // moves that rectangle's corner to the origin; returns the rectangle size.
 Vec2 align_to_min_rectangle(std::vector<Vec2>& uv) {
-  std::vector<Vec2> hull = convex_hull(uv);
-  double best_area = INFINITY;
-  Vec2 best_dir{1, 0};
-  for (size_t i = 0; i < hull.size(); ++i) {
-    Vec2 e = hull[(i + 1) % hull.size()] - hull[i];
-    double len = norm(e);
-    if (len <= 0) continue;
-    Vec2 d = e * (1 / len);
-    double x0 = INFINITY, x1 = -INFINITY, y0 = INFINITY, y1 = -INFINITY;
-    for (Vec2 p : hull) {
-      double x = dot(p, d), y = cross(d, p);
-      x0 = std::min(x0, x); x1 = std::max(x1, x);
-      y0 = std::min(y0, y); y1 = std::max(y1, y);
-    }
-    if ((x1 - x0) * (y1 - y0) < best_area) { best_area = (x1 - x0) * (y1 - y0); best_dir = d; }
-  }
-  // Rotation taking best_dir to +x keeps orientation (no mirror).
+  MinRectangle rect = min_area_rectangle(uv);
+  // Rotation taking rect.axis to +x keeps orientation (no mirror).
   Vec2 lo{INFINITY, INFINITY}, hi{-INFINITY, -INFINITY};
   for (Vec2& p : uv) {
-    p = {dot(p, best_dir), cross(best_dir, p)};
+    p = {dot(p, rect.axis), cross(rect.axis, p)};
     lo = {std::min(lo.x, p.x), std::min(lo.y, p.y)};
     hi = {std::max(hi.x, p.x), std::max(hi.y, p.y)};
   }
@@ -66,17 +52,24 @@ Vec2 turn(Vec2 p, int r, Vec2 size) {
   }
 }
 
-// Lowest and highest texel row the chart covers in each texel column, padding
-// included, for the chart's local frame (corner at (half, half) texels).
+// Lowest and highest texel row the chart covers in each cell column, for the
+// chart's local frame (its rectangle's corner at (half, half) texels),
+// dilated by `half` texels: the Minkowski sum with a square, so that two
+// dilated charts that do not overlap keep 2 * half texels apart.
 struct Profile {
   std::vector<double> bottom, top;
 };
 
 Profile profile(const std::vector<Vec2>& uv, const std::vector<std::array<int, 3>>& tri, int r,
                 Vec2 size, double scale, double half, double column_width) {
+  // The exact y-range is first taken in one-texel strips, then each column
+  // takes the strips within `half` of it.
+  const double strip = std::min(1.0, column_width);
   Vec2 turned_size = (r % 2) ? Vec2{size.y, size.x} : size;
-  int columns = static_cast<int>(std::ceil((turned_size.x * scale + 2 * half) / column_width)) + 1;
-  Profile raw{std::vector<double>(columns, INFINITY), std::vector<double>(columns, -INFINITY)};
+  const double width = turned_size.x * scale + 2 * half;
+  const int strips = static_cast<int>(std::ceil(width / strip)) + 1;
+  const int columns = static_cast<int>(std::ceil(width / column_width)) + 1;
+  Profile raw{std::vector<double>(strips, INFINITY), std::vector<double>(strips, -INFINITY)};
   for (const auto& t : tri) {
     Vec2 p[3];
     for (int k = 0; k < 3; ++k) {
@@ -84,11 +77,12 @@ Profile profile(const std::vector<Vec2>& uv, const std::vector<std::array<int, 3
       p[k] = {q.x * scale + half, q.y * scale + half};
     }
     double x0 = std::min({p[0].x, p[1].x, p[2].x}), x1 = std::max({p[0].x, p[1].x, p[2].x});
-    int c0 = static_cast<int>(x0 / column_width), c1 = std::min(columns - 1, static_cast<int>(x1 / column_width));
+    int c0 = std::max(0, static_cast<int>(x0 / strip));
+    int c1 = std::min(strips - 1, static_cast<int>(x1 / strip));
     for (int c = c0; c <= c1; ++c) {
-      // y-range of the triangle inside the column's strip: vertices within it
-      // and edge crossings of its two sides.
-      double lo_x = c * column_width, hi_x = lo_x + column_width;
+      // y-range of the triangle inside the strip: vertices within it and the
+      // edges' crossings of its two sides.
+      double lo_x = c * strip, hi_x = lo_x + strip;
       double y_lo = INFINITY, y_hi = -INFINITY;
       auto take = [&](double y) { y_lo = std::min(y_lo, y); y_hi = std::max(y_hi, y); };
       for (int k = 0; k < 3; ++k) {
@@ -103,14 +97,14 @@ Profile profile(const std::vector<Vec2>& uv, const std::vector<std::array<int, 3
       }
     }
   }
-  // Dilate by half the padding: two charts then keep a full padding apart.
-  int reach = static_cast<int>(std::ceil(half / column_width));
   Profile out{std::vector<double>(columns, INFINITY), std::vector<double>(columns, -INFINITY)};
   for (int c = 0; c < columns; ++c) {
-    if (!(raw.bottom[c] <= raw.top[c])) continue;
-    for (int d = std::max(0, c - reach); d <= std::min(columns - 1, c + reach); ++d) {
-      out.bottom[d] = std::min(out.bottom[d], raw.bottom[c] - half);
-      out.top[d] = std::max(out.top[d], raw.top[c] + half);
+    int d0 = std::max(0, static_cast<int>(std::floor((c * column_width - half) / strip)));
+    int d1 = std::min(strips - 1, static_cast<int>(std::ceil(((c + 1) * column_width + half) / strip)) - 1);
+    for (int d = d0; d <= d1; ++d) {
+      if (!(raw.bottom[d] <= raw.top[d])) continue;
+      out.bottom[c] = std::min(out.bottom[c], raw.bottom[d] - half);
+      out.top[c] = std::max(out.top[c], raw.top[d] + half);
     }
   }
   return out;
@@ -120,31 +114,40 @@ struct Placement {
   int rotation = 0, column = 0, row = 0;
 };
 
-// Occupancy of the square in cells, kept per column as signed run lengths:
+// Occupancy of a strip of cells, kept per column as signed run lengths:
 // run > 0 means that many free cells from here upward, run < 0 that many
 // occupied. A chart column needing `len` free cells from row r fits iff
 // run >= len, and a misfit tells how far up the next chance lies.
 class Occupancy {
  public:
-  explicit Occupancy(int n) : n_(n), occupied_(static_cast<size_t>(n) * n, 0), run_(static_cast<size_t>(n) * n) {
-    for (int x = 0; x < n; ++x) recompute(x);
+  // Row-major: the placement test reads neighbouring columns at nearby rows.
+  Occupancy(int width, int height)
+      : width_(width), height_(height), occupied_(static_cast<size_t>(width) * height, 0),
+        run_(static_cast<size_t>(width) * height) {
+    for (int x = 0; x < width; ++x) update(x, height - 1, 0);
   }
-  int run(int x, int y) const { return run_[static_cast<size_t>(x) * n_ + y]; }
+  int height() const { return height_; }
+  int run(int x, int y) const { return run_[at(x, y)]; }
   void fill(int x, int y0, int y1) {
-    for (int y = y0; y <= y1; ++y) occupied_[static_cast<size_t>(x) * n_ + y] = 1;
-    recompute(x);
+    for (int y = y0; y <= y1; ++y) occupied_[at(x, y)] = 1;
+    // Runs above y1 are unchanged; below y0 only the free run that ended in
+    // the filled rows changes.
+    update(x, y1, y0);
   }
 
  private:
-  void recompute(int x) {
-    int* r = &run_[static_cast<size_t>(x) * n_];
-    const char* o = &occupied_[static_cast<size_t>(x) * n_];
-    for (int y = n_ - 1; y >= 0; --y) {
-      bool next_same = y + 1 < n_ && (o[y + 1] != 0) == (o[y] != 0);
-      r[y] = o[y] ? (next_same ? r[y + 1] - 1 : -1) : (next_same ? r[y + 1] + 1 : 1);
+  size_t at(int x, int y) const { return static_cast<size_t>(y) * width_ + x; }
+  // Recomputes column x from row `top` down, past `floor`, until an occupied row.
+  void update(int x, int top, int floor) {
+    for (int y = top; y >= 0; --y) {
+      bool occ = occupied_[at(x, y)];
+      if (y < floor && occ) break;
+      bool next_same = y + 1 < height_ && (occupied_[at(x, y + 1)] != 0) == occ;
+      int above = next_same ? run_[at(x, y + 1)] : 0;
+      run_[at(x, y)] = occ ? above - 1 : above + 1;
     }
   }
-  int n_;
+  int width_, height_;
   std::vector<char> occupied_;
   std::vector<int> run_;
 };
@@ -155,24 +158,25 @@ struct CellShape {
   int height = 0;
 };
 
-CellShape cell_shape(const Profile& p, double cell) {
+CellShape cell_shape(const Profile& p, double row_height) {
   CellShape s;
   const int w = static_cast<int>(p.bottom.size());
   s.lo.assign(w, 1);
   s.hi.assign(w, 0);
   for (int c = 0; c < w; ++c) {
     if (!(p.bottom[c] <= p.top[c])) continue;
-    s.lo[c] = std::max(0, static_cast<int>(std::floor(p.bottom[c] / cell)));
-    s.hi[c] = static_cast<int>(std::floor(p.top[c] / cell));
+    s.lo[c] = std::max(0, static_cast<int>(std::floor(p.bottom[c] / row_height)));
+    s.hi[c] = std::max(s.lo[c], static_cast<int>(std::ceil(p.top[c] / row_height)) - 1);
     s.height = std::max(s.height, s.hi[c] + 1);
   }
   return s;
 }
 
-// Lowest row at which the shape fits with its left column at x, or -1; gives
-// up once the shape's top would reach `top_limit`.
-int lowest_fit(const Occupancy& occ, const CellShape& s, int x, int n, int top_limit) {
+// Lowest row at which the shape fits with its left column at x, or -1 when
+// its top would pass `top_limit` first.
+int lowest_fit(const Occupancy& occ, const CellShape& s, int x, int top_limit) {
   const int w = static_cast<int>(s.lo.size());
+  const int n = occ.height();
   int y = 0;
   while (y + s.height <= std::min(n, top_limit)) {
     int next = y;
@@ -190,40 +194,78 @@ int lowest_fit(const Occupancy& occ, const CellShape& s, int x, int n, int top_l
   return -1;
 }
 
-// One packing at `scale` texels per UV unit; false if it overflows the square.
-bool pack_at(const std::vector<PackChart>& charts, const std::vector<Vec2>& sizes,
-             const std::vector<int>& order, double scale, int texture_size, double padding,
-             int cells, std::vector<Placement>& placements) {
-  const double cell = static_cast<double>(texture_size) / cells;
+// The packing grid: columns a few texels wide (placement work grows with
+// their number), rows one texel tall (run lengths make height cheap).
+struct Grid {
+  int columns, rows;           // per side of the square
+  double column_width, row_height;  // in texels
+};
+
+// One packing at `scale` texels per UV unit into a strip one square wide and
+// three tall; returns the rows used (more than grid.rows overflows the
+// square), or INT_MAX if a chart is wider than the strip.
+int pack_at(const std::vector<PackChart>& charts, const std::vector<Vec2>& sizes,
+            const std::vector<int>& order, double scale, double padding, const Grid& grid,
+            std::vector<Placement>& placements) {
   const double half = 0.5 * padding;
-  Occupancy occ(cells);
+  Occupancy occ(grid.columns, 3 * grid.rows);
   placements.assign(charts.size(), {});
+  int used = 0;
   for (int ci : order) {
-    int best_top = cells + 1;
-    Placement best;
-    CellShape best_shape;
+    // Each quarter turn keeps its best position; the lowest top wins.
+    int best_top[4];
+    Placement best[4];
+    CellShape shape[4];
     for (int r = 0; r < 4; ++r) {
-      CellShape s = cell_shape(
-          profile(*charts[ci].uv, *charts[ci].triangles, r, sizes[ci], scale, half, cell), cell);
-      const int w = static_cast<int>(s.lo.size());
-      for (int x = 0; x + w <= cells; ++x) {
-        int y = lowest_fit(occ, s, x, cells, best_top);
-        if (y < 0 || y + s.height >= best_top) continue;
-        best_top = y + s.height;
-        best = {r, x, y};
-        best_shape = s;
+      shape[r] = cell_shape(profile(*charts[ci].uv, *charts[ci].triangles, r, sizes[ci], scale,
+                                    half, grid.column_width),
+                            grid.row_height);
+      best_top[r] = INT_MAX;
+      const int w = static_cast<int>(shape[r].lo.size());
+      for (int x = 0; x + w <= grid.columns; ++x) {
+        int limit = best_top[r] == INT_MAX ? occ.height() : best_top[r] - 1;
+        int y = lowest_fit(occ, shape[r], x, limit);
+        if (y < 0 || y + shape[r].height >= best_top[r]) continue;
+        best_top[r] = y + shape[r].height;
+        best[r] = {r, x, y};
       }
     }
-    if (best_top > cells) return false;
-    for (size_t c = 0; c < best_shape.lo.size(); ++c)
-      if (best_shape.lo[c] <= best_shape.hi[c])
-        occ.fill(best.column + static_cast<int>(c), best.row + best_shape.lo[c], best.row + best_shape.hi[c]);
-    placements[ci] = best;
+    int r = static_cast<int>(std::min_element(best_top, best_top + 4) - best_top);
+    if (best_top[r] == INT_MAX) return INT_MAX;
+    for (size_t c = 0; c < shape[r].lo.size(); ++c)
+      if (shape[r].lo[c] <= shape[r].hi[c])
+        occ.fill(best[r].column + static_cast<int>(c), best[r].row + shape[r].lo[c],
+                 best[r].row + shape[r].hi[c]);
+    placements[ci] = best[r];
+    used = std::max(used, best_top[r]);
   }
-  return true;
+  return used;
 }
 
 }  // namespace
+
+MinRectangle min_area_rectangle(const std::vector<Vec2>& points) {
+  std::vector<Vec2> hull = convex_hull(points);
+  MinRectangle best{{1, 0}, {0, 0}};
+  double best_area = INFINITY;
+  for (size_t i = 0; i < hull.size(); ++i) {
+    Vec2 e = hull[(i + 1) % hull.size()] - hull[i];
+    double len = norm(e);
+    if (len <= 0) continue;
+    Vec2 d = e * (1 / len);
+    double x0 = INFINITY, x1 = -INFINITY, y0 = INFINITY, y1 = -INFINITY;
+    for (Vec2 p : hull) {
+      double x = dot(p, d), y = cross(d, p);
+      x0 = std::min(x0, x); x1 = std::max(x1, x);
+      y0 = std::min(y0, y); y1 = std::max(y1, y);
+    }
+    if ((x1 - x0) * (y1 - y0) < best_area) {
+      best_area = (x1 - x0) * (y1 - y0);
+      best = {d, {x1 - x0, y1 - y0}};
+    }
+  }
+  return best;
+}
 
 PackResult pack_charts(std::vector<PackChart>& charts, int texture_size, double padding_px) {
   PackResult result;
@@ -242,47 +284,48 @@ PackResult pack_charts(std::vector<PackChart>& charts, int texture_size, double 
   std::stable_sort(order.begin(), order.end(), [&](int a, int b) {
     return sizes[a].x * sizes[a].y > sizes[b].x * sizes[b].y;
   });
-  // Cells of about four texels at 2048: finer buys little packing density for
-  // much more placement work.
-  const int columns = std::max(16, std::min(texture_size, 2048) / 4);
+  Grid grid;
+  grid.columns = std::max(16, std::min(texture_size, 2048) / 4);
+  grid.rows = std::min(texture_size, 4096);
+  grid.column_width = static_cast<double>(texture_size) / grid.columns;
+  grid.row_height = static_cast<double>(texture_size) / grid.rows;
 
+  // Scale search: pack into a tall strip, then rescale by sqrt(square height /
+  // used height) — a few packings instead of a blind bisection. `lo` is the
+  // largest scale seen to fit, `hi` the smallest seen to overflow.
   std::vector<Placement> placements, best_placements;
-  double hi = texture_size / std::sqrt(std::max(area, 1e-300));  // 100% utilisation
-  double lo = 0;
-  for (double s = hi * 0.9; s > hi * 1e-12; s *= 0.7) {
+  const double full = texture_size / std::sqrt(std::max(area, 1e-300));  // 100% utilisation
+  double lo = 0, hi = full, s = full * std::sqrt(0.8);
+  for (int it = 0; it < 40 && (lo == 0 || hi / lo > 1.01); ++it) {
     ++result.attempts;
-    if (pack_at(charts, sizes, order, s, texture_size, padding_px, columns, placements)) {
+    int used = pack_at(charts, sizes, order, s, padding_px, grid, placements);
+    if (used <= grid.rows) {
       lo = s;
       best_placements = placements;
-      break;
+    } else {
+      hi = std::min(hi, s);
     }
-    hi = s;
+    double guess = used == INT_MAX ? 0.5 * s : s * std::sqrt(static_cast<double>(grid.rows) / used);
+    if (used > grid.rows) guess *= 0.99;
+    // Stay strictly inside the bracket; fall back to its middle.
+    if (!(guess > lo && guess < hi)) guess = lo > 0 ? std::sqrt(lo * hi) : 0.5 * s;
+    if (lo == 0 && guess < full * 1e-9) break;
+    s = guess;
   }
   if (lo == 0)
     throw Error(ErrorCode::limit_exceeded,
                 "atlas: " + std::to_string(n) + " charts do not fit a " +
                     std::to_string(texture_size) + " texture with " +
                     std::to_string(padding_px) + " px padding");
-  for (int it = 0; it < 10 && hi / lo > 1.005; ++it) {
-    double s = std::sqrt(lo * hi);
-    ++result.attempts;
-    if (pack_at(charts, sizes, order, s, texture_size, padding_px, columns, placements)) {
-      lo = s;
-      best_placements = placements;
-    } else {
-      hi = s;
-    }
-  }
 
-  const double column_width = static_cast<double>(texture_size) / columns;
   const double half = 0.5 * padding_px;
   double uv_area = 0;
   for (int i = 0; i < n; ++i) {
     const Placement& p = best_placements[i];
     for (Vec2& q : *charts[i].uv) {
       Vec2 t = turn(q, p.rotation, sizes[i]);
-      q = {(p.column * column_width + t.x * lo + half) / texture_size,
-           (p.row * column_width + t.y * lo + half) / texture_size};
+      q = {(p.column * grid.column_width + t.x * lo + half) / texture_size,
+           (p.row * grid.row_height + t.y * lo + half) / texture_size};
     }
     for (const auto& t : *charts[i].triangles) {
       const auto& uv = *charts[i].uv;

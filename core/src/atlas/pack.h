@@ -8,12 +8,13 @@
 //
 // Method: each chart is turned to its minimal-area bounding rectangle
 // (the best hull edge direction), then charts are placed largest first on a
-// grid of cells (about 4 texels): each chart, in four quarter turns, becomes
-// one run of cells per column (dilated by half the padding), and goes where
+// grid of columns about 4 texels wide and rows one texel tall: each chart, in four quarter turns, becomes
+// one run of rows per column (dilated by half the padding), and goes where
 // its top ends lowest among all columns and turns. Columns keep signed
 // free/occupied run lengths, so a chart can also drop into a hole between
 // earlier charts, and the search for the lowest fit jumps over whole
-// occupied runs. The common scale is the largest a bisection finds that fits.
+// occupied runs. The common scale comes from a few packings into a tall strip,
+// each rescaled by sqrt(square height / height used).
 #pragma once
 
 #include <array>
@@ -33,6 +34,15 @@ struct PackResult {
   double utilization = 0;  // UV area / 1
   int attempts = 0;        // packings tried by the bisection
 };
+
+// Minimal-area bounding rectangle of a point set (one side is parallel to a
+// convex hull edge): the unit direction of its first side and its size along
+// that side and across.
+struct MinRectangle {
+  Vec2 axis;
+  Vec2 size;
+};
+MinRectangle min_area_rectangle(const std::vector<Vec2>& points);
 
 // Throws Error{limit_exceeded} if the charts cannot fit at any scale (more
 // charts than the padding leaves room for).

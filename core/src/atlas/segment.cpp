@@ -137,7 +137,7 @@ Segmentation segment_charts(const MeshTopology& t, const std::vector<char>& seam
 
   // Lloyd steps between seed insertions let charts settle before we judge
   // them against the budget; the round cap only guards against cycling.
-  const int lloyd_steps = 2, max_rounds = 60;
+  const int lloyd_steps = 1, max_rounds = 60;
   bool budget_met = false;
   for (int round = 0; round < max_rounds; ++round) {
     progress.update("atlas.segment", std::min(0.99, round / 20.0));

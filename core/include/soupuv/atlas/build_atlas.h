@@ -52,6 +52,11 @@ struct AtlasOptions {
   double alpha = 1.0;
   double beta = 1.0;
   int arap_iterations = 10;
+  // Packing: while utilisation is below `packing_split_below`, the largest
+  // charts are halved and everything is packed again, at most
+  // `packing_split_rounds` times (few big charts fill a square badly).
+  double packing_split_below = 0.72;
+  int packing_split_rounds = 4;
   int threads = 0;           // OpenMP threads; 0 = OpenMP's default
 };
 
@@ -65,6 +70,7 @@ struct AtlasDiagnostics {
   double overlap = 0;        // texels covered twice / texels covered (raster at texture_size)
   double utilization = 0;    // UV area of all faces / area of [0,1]^2
   int splits = 0;            // charts split for topology, flips, overlap or stretch
+  int packing_splits = 0;    // flattened charts halved to pack tighter
   int seam_edges = 0;        // mesh edges forced to be seams by the hints
   double seconds = 0;
   double seconds_segment = 0, seconds_parameterize = 0, seconds_pack = 0;

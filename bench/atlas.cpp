@@ -1,0 +1,78 @@
+// soupuv-bench atlas: build_atlas on closed meshes (spheres, tori, a genus-3
+// surface, cube, cylinder, a CAD-like drilled block) at growing sizes; one
+// JSON line per mesh with the issue-5 figures (charts, stretch, flips,
+// overlap, utilisation, seconds), then a summary with the worst values.
+// --quick: small sizes only (about a minute on a busy 2-core machine).
+#include <omp.h>
+
+#include <algorithm>
+#include <functional>
+#include <iostream>
+
+#include "bench_registry.h"
+#include "soupuv/atlas/build_atlas.h"
+#include "soupuv/atlas/test_meshes.h"
+#include "soupuv/shapes.h"
+
+namespace {
+
+using namespace soupuv;
+
+struct Case {
+  std::string name;
+  std::function<TriMesh()> make;
+};
+
+int run_atlas(const bench::Args& args) {
+  std::vector<Case> cases = {
+      {"sphere_5k", [] { return shapes::sphere_with(1.0, 5000); }},
+      {"torus_5k", [] { return shapes::torus_with(1.0, 0.3, 5000); }},
+      {"cube_1.7k", [] { return shapes::cube(2.0, 12); }},
+      {"cylinder_2.6k", [] { return shapes::cylinder(0.5, 2.0, 48, 16, 6); }},
+      {"genus3_12k", [] { return atlas::test_meshes::fused_tori(3, 12000); }},
+      {"drilled_block_10k", [] { return atlas::test_meshes::drilled_block(10000); }},
+  };
+  if (!args.quick) {
+    cases.push_back({"sphere_50k", [] { return shapes::sphere_with(1.0, 50000); }});
+    cases.push_back({"torus_51k", [] { return shapes::torus_with(1.0, 0.3, 51200); }});
+    cases.push_back({"genus3_40k", [] { return atlas::test_meshes::fused_tori(3, 40000); }});
+    cases.push_back({"sphere_100k", [] { return shapes::sphere_with(1.0, 100000); }});
+    cases.push_back({"torus_102k", [] { return shapes::torus_with(1.0, 0.3, 102400); }});
+    cases.push_back({"genus3_100k", [] { return atlas::test_meshes::fused_tori(3, 100000); }});
+    cases.push_back({"drilled_block_100k", [] { return atlas::test_meshes::drilled_block(100000); }});
+  }
+  double worst_l2 = 0, worst_util = 1, worst_seconds = 0;
+  int total_flipped = 0;
+  double worst_overlap = 0;
+  for (const Case& c : cases) {
+    TriMesh mesh = c.make();
+    std::cerr << "atlas: " << c.name << " (" << mesh.faces.size() << " faces)\n";
+    atlas::AtlasResult r = atlas::build_atlas(mesh, {}, Progress::none());
+    nlohmann::json row = {{"suite", "atlas"},
+                          {"mesh", c.name},
+                          {"triangles", mesh.faces.size()},
+                          {"threads", bench::threads()},
+                          {"peak_rss_mb", bench::peak_rss_mb()}};
+    row.update(r.diagnostics());
+    bench::emit(row);
+    worst_l2 = std::max(worst_l2, r.stats.stretch_l2);
+    worst_util = std::min(worst_util, r.stats.utilization);
+    worst_seconds = std::max(worst_seconds, r.stats.seconds);
+    total_flipped += r.stats.flipped;
+    worst_overlap = std::max(worst_overlap, r.stats.overlap);
+  }
+  bench::emit({{"suite", "atlas"},
+               {"kind", "summary"},
+               {"meshes", cases.size()},
+               {"worst_stretch_l2", worst_l2},
+               {"worst_utilization", worst_util},
+               {"flipped", total_flipped},
+               {"worst_overlap", worst_overlap},
+               {"worst_seconds", worst_seconds}});
+  return 0;
+}
+
+soupuv::bench::Suite reg("atlas", "proxy atlas: charts, stretch, flips, overlap, utilisation, seconds",
+                         run_atlas);
+
+}  // namespace

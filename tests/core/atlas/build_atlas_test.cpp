@@ -1,0 +1,127 @@
+// build_atlas on closed shapes: disk charts, no flips, no overlaps, stretch
+// and utilisation targets of issue 5, checked independently of the library.
+#include <gtest/gtest.h>
+
+#include <cstdio>
+#include <cstdlib>
+#include <fstream>
+
+#include "atlas_checks.h"
+#include "soupuv/atlas/build_atlas.h"
+#include "soupuv/atlas/test_meshes.h"
+#include "soupuv/errors.h"
+#include "soupuv/shapes.h"
+
+namespace soupuv::atlas {
+namespace {
+
+AtlasResult check_atlas(const std::string& name, const TriMesh& mesh, const AtlasOptions& options = {}) {
+  AtlasResult r = build_atlas(mesh, options, Progress::none());
+  const Atlas& a = r.atlas;
+  std::printf("%s: %zu faces, %s\n", name.c_str(), mesh.faces.size(), r.diagnostics().dump().c_str());
+  EXPECT_EQ(a.face_uvs.size(), mesh.faces.size());
+  // ATLAS_DUMP=dir writes each atlas's UV triangles as text, to look at them.
+  if (const char* dir = std::getenv("ATLAS_DUMP")) {
+    std::ofstream out(std::string(dir) + "/" + name + ".txt");
+    for (size_t f = 0; f < a.face_uvs.size(); ++f) {
+      out << a.face_chart[f];
+      for (const Vec2& p : a.face_uvs[f]) out << " " << p.x << " " << p.y;
+      out << "\n";
+    }
+  }
+  EXPECT_EQ(r.stats.flipped, 0) << name;
+  EXPECT_EQ(r.stats.overlap, 0.0) << name;
+  EXPECT_LE(r.stats.stretch_l2, 1.10) << name;
+  EXPECT_GE(r.stats.utilization, 0.70) << name;
+
+  int flipped = 0, outside = 0, bad_chart = 0;
+  for (size_t f = 0; f < a.face_uvs.size(); ++f) {
+    flipped += atlas_checks::signed_area(a.face_uvs[f]) <= 0;
+    for (const Vec2& p : a.face_uvs[f]) outside += !(p.x >= 0 && p.x <= 1 && p.y >= 0 && p.y <= 1);
+    bad_chart += !(a.face_chart[f] >= 0 && a.face_chart[f] < a.chart_count);
+  }
+  EXPECT_EQ(flipped, 0) << name;
+  EXPECT_EQ(outside, 0) << name;
+  EXPECT_EQ(bad_chart, 0) << name;
+  if (bad_chart) return r;
+  EXPECT_EQ(atlas_checks::overlapping_pairs(a), 0) << name;
+  auto topo = atlas_checks::chart_topology(mesh, a);
+  for (int c = 0; c < a.chart_count; ++c) {
+    EXPECT_EQ(topo[c].euler, 1) << name << " chart " << c;
+    EXPECT_EQ(topo[c].boundary_loops, 1) << name << " chart " << c;
+  }
+  return r;
+}
+
+TEST(BuildAtlas, Sphere) { check_atlas("sphere", shapes::sphere_with(1.0, 6000)); }
+TEST(BuildAtlas, Icosphere) { check_atlas("icosphere", shapes::icosphere(2.0, 4)); }
+TEST(BuildAtlas, Torus) { check_atlas("torus", shapes::torus_with(1.0, 0.3, 5000)); }
+TEST(BuildAtlas, ThinTorus) { check_atlas("thin torus", shapes::torus(1.0, 0.1, 96, 16)); }
+TEST(BuildAtlas, Cube) {
+  AtlasResult r = check_atlas("cube", shapes::cube(2.0, 12));
+  // Flat faces and 90-degree creases: the six faces are the natural charts
+  // (packing may halve some of them afterwards).
+  EXPECT_EQ(r.stats.charts - r.stats.packing_splits, 6);
+  EXPECT_LT(r.stats.stretch_l2, 1.0 + 1e-6);
+}
+TEST(BuildAtlas, Cylinder) { check_atlas("cylinder", shapes::cylinder(0.5, 2.0, 48, 16, 6)); }
+TEST(BuildAtlas, GenusThree) { check_atlas("genus 3", test_meshes::fused_tori(3, 12000)); }
+TEST(BuildAtlas, DrilledBlock) { check_atlas("drilled block", test_meshes::drilled_block(10000)); }
+TEST(BuildAtlas, TwoComponents) {
+  TriMesh a = shapes::sphere_with(1.0, 2000), b = shapes::torus_with(1.0, 0.3, 2000);
+  shapes::translate(b, {4, 0, 0});
+  int offset = static_cast<int>(a.vertices.size());
+  a.vertices.insert(a.vertices.end(), b.vertices.begin(), b.vertices.end());
+  for (auto f : b.faces) a.faces.push_back({f[0] + offset, f[1] + offset, f[2] + offset});
+  check_atlas("sphere + torus", a);
+}
+TEST(BuildAtlas, SmallTextureKeepsPadding) {
+  AtlasOptions o;
+  o.texture_size = 256;
+  o.padding_px = 4;
+  AtlasResult r = build_atlas(shapes::torus_with(1.0, 0.3, 2000), o, Progress::none());
+  // Faces of different charts keep at least the padding apart: test every
+  // pair of corners from different charts against the gap in texels.
+  const Atlas& a = r.atlas;
+  double closest = INFINITY;
+  for (size_t f = 0; f < a.face_uvs.size(); ++f)
+    for (size_t g = f + 1; g < a.face_uvs.size(); ++g) {
+      if (a.face_chart[f] == a.face_chart[g]) continue;
+      for (const Vec2& p : a.face_uvs[f])
+        for (const Vec2& q : a.face_uvs[g]) closest = std::min(closest, norm(p - q) * o.texture_size);
+    }
+  EXPECT_GE(closest, 4.0 - 1e-9);
+}
+
+TEST(BuildAtlas, RejectsOpenMesh) {
+  TriMesh m = shapes::pipe(1.0, 2.0, 16, 4);
+  try {
+    build_atlas(m, {}, Progress::none());
+    FAIL() << "an open mesh was accepted";
+  } catch (const Error& e) {
+    EXPECT_EQ(e.code(), ErrorCode::invalid_input);
+  }
+}
+
+TEST(BuildAtlas, RejectsEmptyMesh) {
+  try {
+    build_atlas(TriMesh{}, {}, Progress::none());
+    FAIL() << "an empty mesh was accepted";
+  } catch (const Error& e) {
+    EXPECT_EQ(e.code(), ErrorCode::no_triangles);
+  }
+}
+
+TEST(BuildAtlas, Cancels) {
+  Progress p;
+  p.cancel();
+  try {
+    build_atlas(shapes::sphere_with(1.0, 2000), {}, p);
+    FAIL() << "a canceled build finished";
+  } catch (const Error& e) {
+    EXPECT_EQ(e.code(), ErrorCode::canceled);
+  }
+}
+
+}  // namespace
+}  // namespace soupuv::atlas
