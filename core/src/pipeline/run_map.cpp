@@ -100,6 +100,7 @@ MapResult run_box(const Soup& soup, const MapOptions& options, Progress& progres
   d["method"] = "box";
   d["soup"] = soup_json(soup, hash);
   d["stages"] = {{"box", {{"seconds", box.seconds}}}, {"metrics", {{"seconds", metric_seconds}}}};
+  d["box"] = {{"face_triangles", box.face_triangles}};
   d["uv"] = quality::to_json(m);
   d["cache"] = cache_json(nullptr, 0, 0);
   d["warnings"] = soup.warnings;
