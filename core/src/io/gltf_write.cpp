@@ -169,12 +169,16 @@ WriteResult write_glb(const Asset& asset, std::span<const Vec2> corner_uvs,
                                   {"wrapS", 10497}, {"wrapT", 10497}}});
   out["textures"] = json::array({{{"sampler", 0}, {"source", 0}}});
 
+  // Primitives without a (valid) source material share one default material.
+  const int source_materials = static_cast<int>(array_or_empty(document, "materials").size());
+  auto has_source_material = [&](const OutPrimitive& p) {
+    return p.material >= 0 && p.material < source_materials;
+  };
   bool needs_default = false;
   for (const OutMesh& m : meshes)
-    for (const OutPrimitive& p : m.primitives) needs_default = needs_default || p.material < 0;
+    for (const OutPrimitive& p : m.primitives) needs_default = needs_default || !has_source_material(p);
   json materials = write_materials(document, 0, needs_default, result.warnings);
   const int default_material = static_cast<int>(materials.size()) - 1;
-  const int source_materials = static_cast<int>(materials.size()) - (needs_default ? 1 : 0);
   out["materials"] = materials;
 
   NodeTree tree = expand_node_tree(document);
@@ -186,11 +190,7 @@ WriteResult write_glb(const Asset& asset, std::span<const Vec2> corner_uvs,
     for (const OutPrimitive& p : m.primitives) {
       json primitive = options.draco ? builder.draco_primitive(p, options, result.warnings)
                                      : builder.plain_primitive(p);
-      bool known = p.material >= 0 && p.material < source_materials;
-      primitive["material"] = known ? p.material : default_material;
-      if (p.material >= source_materials) {
-        if (!needs_default) throw Error(ErrorCode::internal, "material index out of range");
-      }
+      primitive["material"] = has_source_material(p) ? p.material : default_material;
       mesh["primitives"].push_back(primitive);
       result.primitives++;
       result.vertices += p.vertex_count();
