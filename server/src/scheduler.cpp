@@ -21,6 +21,18 @@ const std::vector<std::string>& output_names() {
   return names;
 }
 
+// Diagnostics name the worker's files by absolute path; clients must not learn
+// the server's layout, so every string inside the data directory becomes its
+// file name.
+void scrub_paths(nlohmann::json& j, const std::string& root) {
+  if (j.is_object() || j.is_array()) {
+    for (auto& v : j) scrub_paths(v, root);
+  } else if (j.is_string()) {
+    const std::string& s = j.get_ref<const std::string&>();
+    if (s.rfind(root, 0) == 0) j = fs::path(s).filename().string();
+  }
+}
+
 // Stage names come from the worker; keep them safe as metric labels and JSON.
 std::string clean_stage(const std::string& s) {
   std::string out;
@@ -270,6 +282,10 @@ void Scheduler::run_job(const std::string& id) {
         }
       if (fs::exists(dir / "diagnostics.json")) {
         auto d = nlohmann::json::parse(read_file(dir / "diagnostics.json", 64 << 20), nullptr, false);
+        if (!d.is_discarded()) {
+          scrub_paths(d, data_.root().string());
+          write_file_atomic(dir / "diagnostics.json", d.dump(2));
+        }
         if (d.is_object() && d.contains("cache") && d["cache"].is_object() && d["cache"].contains("hits") &&
             d["cache"]["hits"].is_number_integer())
           metrics_.cache_hits(d["cache"]["hits"].get<int64_t>());

@@ -29,6 +29,9 @@ double since(Clock::time_point t0) { return std::chrono::duration<double>(Clock:
   setpgid(0, 0);
   prctl(PR_SET_PDEATHSIG, SIGKILL);
   if (getppid() != parent) _exit(127);  // parent died before prctl took effect
+  // Below the server's own priority: status polls and uploads stay quick while
+  // every worker is computing.
+  setpriority(PRIO_PROCESS, 0, 10);
   struct rlimit none = {0, 0};
   setrlimit(RLIMIT_CORE, &none);
   if (limits.address_space_bytes > 0) {

@@ -89,6 +89,7 @@ TEST_F(Api, SubmitPollDownloadGlb) {
   auto d = json::parse(diag->body, nullptr, false);
   ASSERT_TRUE(d.is_object());
   EXPECT_EQ(d["soup"]["triangles"], 5856);
+  EXPECT_EQ(diag->body.find("test-tmp"), std::string::npos) << "diagnostics leak server paths";
   // Delete a finished job: its files go, then it is 404.
   auto del = c.Delete(("/v1/jobs/" + id).c_str());
   ASSERT_TRUE(del);

@@ -53,7 +53,13 @@ TEST(Supervision, WallClockTimeoutFailsTheJobWithAReason) {
   auto c = s->client();
   std::string id = submit_box(c);
   ASSERT_FALSE(id.empty());
-  auto running = wait_state(c, id, "running");
+  // The worker's progress lines reach the job (stage "wait" from the double).
+  json running;
+  for (int i = 0; i < 100; ++i) {
+    running = wait_state(c, id, "running");
+    if (running.value("stage", "") == "wait") break;
+    std::this_thread::sleep_for(std::chrono::milliseconds(20));
+  }
   EXPECT_EQ(running["stage"], "wait") << running.dump();
   auto done = wait_finished(c, id, 20);
   EXPECT_EQ(done["state"], "failed");

@@ -2,7 +2,7 @@
 //
 // Input: argv, extra environment, limits. The child gets its own process group
 // (so a kill reaches anything it starts), RLIMIT_AS / RLIMIT_CPU / no core
-// dumps, PR_SET_PDEATHSIG so it dies with the server (restart recovery re-runs
+// dumps, nice 10, PR_SET_PDEATHSIG so it dies with the server (restart recovery re-runs
 // it; an orphan would race the re-run), and every inherited fd closed except
 // stdout/stderr. Output: its stderr lines (progress JSON, "soupuv: reason")
 // through a callback, and how it ended.
