@@ -1,5 +1,6 @@
 #include "soupuv/transfer/chart_fix.h"
 
+#include <algorithm>
 #include <cmath>
 #include <map>
 #include <memory>
@@ -23,6 +24,21 @@ double atlas_scale(const TriMesh& mesh, const atlas::Atlas& atlas) {
     auv += uv_area(atlas.face_uvs[f][0], atlas.face_uvs[f][1], atlas.face_uvs[f][2]);
   }
   return a3 > 0 ? std::sqrt(auv / a3) : 1.0;
+}
+
+// Barycentric coordinates of p projected onto the plane of face f (negative
+// outside the face): evaluating the face's UVs with them extends the chart's
+// map linearly across its boundary.
+std::array<double, 3> plane_barycentric(const TriMesh& mesh, int f, Vec3 p) {
+  const auto& t = mesh.faces[f];
+  Vec3 a = mesh.vertices[t[0]], e1 = mesh.vertices[t[1]] - a, e2 = mesh.vertices[t[2]] - a;
+  Vec3 q = p - a;
+  double d11 = dot(e1, e1), d12 = dot(e1, e2), d22 = dot(e2, e2);
+  double det = d11 * d22 - d12 * d12;
+  if (!(det > 0)) return {1, 0, 0};
+  double q1 = dot(q, e1), q2 = dot(q, e2);
+  double v = (d22 * q1 - d12 * q2) / det, w = (d11 * q2 - d12 * q1) / det;
+  return {1 - v - w, v, w};
 }
 
 }  // namespace
@@ -69,9 +85,28 @@ ChartFixResult fix_chart_boundaries(const Soup& soup, const proxy::ProxyMesh& pr
       std::array<SurfacePoint, 3> land;
       std::array<Vec2, 3> uv;
       for (int j = 0; j < 3; ++j) {
-        land[j] = charts[j] == chart ? landing[3 * t + j]
-                                     : bvh_of(chart).closest_point(landing[3 * t + j].point);
+        if (charts[j] == chart) {
+          land[j] = landing[3 * t + j];
+          uv[j] = atlas_uv(atlas, land[j]);
+          continue;
+        }
+        // The closest point of the chart sits on its boundary; the paper
+        // takes its UV, which squashes the triangle against the seam. We
+        // extend the boundary face's linear map to the landing point instead
+        // (continuous across the seam, exact where the proxy is flat), as
+        // long as that stays within a face size of the boundary.
+        const Vec3 p = landing[3 * t + j].point;
+        land[j] = bvh_of(chart).closest_point(p);
         uv[j] = atlas_uv(atlas, land[j]);
+        const auto& f = mesh.faces[land[j].face];
+        double size = std::max({norm(mesh.vertices[f[1]] - mesh.vertices[f[0]]),
+                                norm(mesh.vertices[f[2]] - mesh.vertices[f[1]]),
+                                norm(mesh.vertices[f[0]] - mesh.vertices[f[2]])});
+        if (norm(p - land[j].point) <= size) {
+          SurfacePoint extended = land[j];
+          extended.bary = plane_barycentric(mesh, land[j].face, p);
+          uv[j] = atlas_uv(atlas, extended);
+        }
       }
       double err = std::abs(uv_area(uv[0], uv[1], uv[2]) / scale2 - area3);
       if (err < best_err) {
