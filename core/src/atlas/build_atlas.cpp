@@ -37,6 +37,7 @@ nlohmann::json AtlasResult::diagnostics() const {
           {"flipped", s.flipped},
           {"overlap", s.overlap},
           {"utilization", s.utilization},
+          {"segment_rounds", s.segment_rounds},
           {"splits", s.splits},
           {"packing_splits", s.packing_splits},
           {"seam_edges", s.seam_edges},
@@ -79,6 +80,7 @@ AtlasResult build_atlas(const TriMesh& mesh, const AtlasOptions& options, Progre
 
   Segmentation seg = segment_charts(topology, seam, options.max_normal_deviation_deg, progress);
   std::vector<int>& face_chart = seg.face_chart;
+  stats.segment_rounds = seg.rounds;
   std::vector<std::vector<int>> pending(seg.count);
   for (int f = 0; f < nf; ++f) pending[face_chart[f]].push_back(f);
   int next_id = seg.count;

@@ -173,20 +173,24 @@ CellShape cell_shape(const Profile& p, double row_height) {
 }
 
 // Lowest row at which the shape fits with its left column at x, or -1 when
-// its top would pass `top_limit` first.
-int lowest_fit(const Occupancy& occ, const CellShape& s, int x, int top_limit) {
+// its top would pass `top_limit` first. `hint` is the column that blocked
+// last time: neighbouring x usually hit the same obstacle, so testing it
+// first rejects most rows at once.
+int lowest_fit(const Occupancy& occ, const CellShape& s, int x, int top_limit, int& hint) {
   const int w = static_cast<int>(s.lo.size());
   const int n = occ.height();
   int y = 0;
   while (y + s.height <= std::min(n, top_limit)) {
     int next = y;
-    for (int c = 0; c < w && next == y; ++c) {
+    for (int i = 0; i < w && next == y; ++i) {
+      int c = (hint + i) % w;
       if (s.lo[c] > s.hi[c]) continue;
       int r = y + s.lo[c], len = s.hi[c] - s.lo[c] + 1;
       int v = occ.run(x + c, r);
       if (v >= len) continue;
       // Skip past the occupied run that blocks this column.
       next = v > 0 ? (r + v < n ? y + v - occ.run(x + c, r + v) : n) : y - v;
+      hint = c;
     }
     if (next == y) return y;
     y = next;
@@ -222,9 +226,10 @@ int pack_at(const std::vector<PackChart>& charts, const std::vector<Vec2>& sizes
                             grid.row_height);
       best_top[r] = INT_MAX;
       const int w = static_cast<int>(shape[r].lo.size());
+      int hint = 0;
       for (int x = 0; x + w <= grid.columns; ++x) {
         int limit = best_top[r] == INT_MAX ? occ.height() : best_top[r] - 1;
-        int y = lowest_fit(occ, shape[r], x, limit);
+        int y = lowest_fit(occ, shape[r], x, limit, hint);
         if (y < 0 || y + shape[r].height >= best_top[r]) continue;
         best_top[r] = y + shape[r].height;
         best[r] = {r, x, y};

@@ -135,9 +135,11 @@ Segmentation segment_charts(const MeshTopology& t, const std::vector<char>& seam
   Segmentation s;
   s.face_chart.assign(nf, -1);
 
-  // Lloyd steps between seed insertions let charts settle before we judge
-  // them against the budget; the round cap only guards against cycling.
-  const int lloyd_steps = 1, max_rounds = 60;
+  // A Lloyd step between seed insertions lets charts settle before we judge
+  // them against the budget. Seeds double per round at best, so 14 rounds
+  // allow thousands of charts; the few charts still over budget then are
+  // left to the stretch check, which splits what flattens badly.
+  const int lloyd_steps = 1, max_rounds = 14;
   bool budget_met = false;
   for (int round = 0; round < max_rounds; ++round) {
     progress.update("atlas.segment", std::min(0.99, round / 20.0));
@@ -167,7 +169,10 @@ Segmentation segment_charts(const MeshTopology& t, const std::vector<char>& seam
       for (int c = 0; c < k; ++c)
         if (over_budget[c] && farthest_face[c] >= 0 && farthest_face[c] != seeds[c]) {
           seeds.push_back(farthest_face[c]);
-          proxies.push_back({t.face_normal[farthest_face[c]], t.face_centroid[farthest_face[c]], 0});
+          // The new chart takes half its parent's area as its first radius;
+          // with no radius at all it would flood far on the next pass.
+          proxies.push_back({t.face_normal[farthest_face[c]], t.face_centroid[farthest_face[c]],
+                             2 * proxies[c].inv_radius2});
           budget_met = false;
         }
     }

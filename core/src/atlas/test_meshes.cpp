@@ -103,10 +103,10 @@ double box_distance(Vec3 p, Vec3 half) {
   return norm(outside) + std::min(std::max({q.x, q.y, q.z}), 0.0);
 }
 
-// Marching tetrahedra makes about 2.4 faces per (surface area / h^2); this
+// Marching tetrahedra makes about 7.8 faces per (surface area / h^2); this
 // picks the grid for a requested face count from an area estimate.
 int cells_for(double area, double longest_side, int triangles) {
-  double h = std::sqrt(2.4 * area / std::max(triangles, 100));
+  double h = std::sqrt(7.8 * area / std::max(triangles, 100));
   return std::max(8, static_cast<int>(longest_side / h));
 }
 

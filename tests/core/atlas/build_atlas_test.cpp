@@ -125,3 +125,22 @@ TEST(BuildAtlas, Cancels) {
 
 }  // namespace
 }  // namespace soupuv::atlas
+
+namespace soupuv::atlas {
+namespace {
+
+// Timing of a 100k-face mesh; run with --gtest_also_run_disabled_tests.
+TEST(BuildAtlasLarge, DISABLED_Genus3Of100k) {
+  TriMesh mesh = test_meshes::fused_tori(3, 100000);
+  AtlasResult r = build_atlas(mesh, {}, Progress::none());
+  std::printf("%zu faces: %s\n", mesh.faces.size(), r.diagnostics().dump().c_str());
+}
+
+TEST(BuildAtlasLarge, DISABLED_SphereOf100k) {
+  TriMesh mesh = shapes::sphere_with(1.0, 100000);
+  AtlasResult r = build_atlas(mesh, {}, Progress::none());
+  std::printf("%zu faces: %s\n", mesh.faces.size(), r.diagnostics().dump().c_str());
+}
+
+}  // namespace
+}  // namespace soupuv::atlas

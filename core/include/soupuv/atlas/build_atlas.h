@@ -69,6 +69,7 @@ struct AtlasDiagnostics {
   int flipped = 0;           // faces with non-positive UV area
   double overlap = 0;        // texels covered twice / texels covered (raster at texture_size)
   double utilization = 0;    // UV area of all faces / area of [0,1]^2
+  int segment_rounds = 0;    // seed-insertion rounds the segmentation took
   int splits = 0;            // charts split for topology, flips, overlap or stretch
   int packing_splits = 0;    // flattened charts halved to pack tighter
   int seam_edges = 0;        // mesh edges forced to be seams by the hints
