@@ -326,6 +326,17 @@ TEST(WriteGlb, NonFiniteUvsAreWrittenAsZeroWithAWarning) {
   EXPECT_FALSE(r.warnings.empty());
 }
 
+TEST(WriteGlb, UnknownMaterialGetsTheDefaultMaterial) {
+  Asset a = asset_from(shapes::icosphere(1.0, 0));
+  for (auto& o : a.soup.origins) o.material = 5;  // the document has no materials
+  WriteOptions options;
+  options.check_texture_size = 64;
+  Glb glb(write_glb(a, baseline::box_projection(a.soup).corner_uvs, options).glb);
+  ASSERT_EQ(glb.doc["materials"].size(), 1u);
+  EXPECT_EQ(glb.doc["meshes"][0]["primitives"][0]["material"], 0);
+  EXPECT_TRUE(glb.doc["materials"][0]["pbrMetallicRoughness"].contains("baseColorTexture"));
+}
+
 TEST(WriteGlb, WrongUvCountIsAnError) {
   Asset a = asset_from(shapes::icosphere(1.0, 0));
   std::vector<Vec2> uvs(5);
