@@ -6,7 +6,7 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 root=$(pwd)
 # ccache hits across clones at other paths (CI builds a fresh clone).
-export CCACHE_BASEDIR="$root"
+export CCACHE_BASEDIR="$root" CCACHE_NOHASHDIR=1
 jobs=${SOUPUV_JOBS:-$(nproc)}
 
 bash scripts/install-deps.sh
