@@ -10,6 +10,7 @@
 #include <cmath>
 #include <optional>
 
+#include "soupuv/cgal/proxy_decimate.h"
 #include "soupuv/cgal/proxy_remesh.h"
 #include "soupuv/cgal/proxy_self_intersections.h"
 #include "soupuv/errors.h"
@@ -251,6 +252,9 @@ ProxyResult build_proxy(const Soup& soup, const ProxyOptions& options, Progress&
     if (options.remesh && options.remesh_iterations > 0 && !mesh.faces.empty()) {
       progress.update("proxy: remeshing", 0);
       double target = options.target_edge_length > 0 ? options.target_edge_length : offset;
+      // Collapse first (cheap per edge), then remesh the few that remain.
+      mesh = cgal::collapse_short_edges(mesh, 0.6 * target);
+      progress.update("proxy: remeshing", 0.5);
       mesh = cgal::isotropic_remesh(mesh, target, options.remesh_iterations);
     }
     r.seconds_remesh = since(t0);

@@ -40,8 +40,10 @@ NarrowBand build_narrow_band(const TriangleBvh& bvh, const Box3& box, double off
       for (int i = 0; i * top < band.dims[0]; ++i) current.push_back(grid_key(i, j, k));
 
   size_t evaluations = 0;
-  for (int level = levels; level >= 0; --level) {
-    progress.update("proxy: narrow band", double(levels - level) / (levels + 2));
+  // Refine down to cells of size 2h by the Lipschitz test on their centers;
+  // their children are the candidate leaves, decided by their corners below.
+  for (int level = levels; level >= 1; --level) {
+    progress.update("proxy: narrow band", double(levels - level) / (levels + 1));
     double size = cell * (1 << level);
     double half_diagonal = 0.5 * std::sqrt(3.0) * size * (1 + 1e-9);
     std::vector<char> keep(current.size());
@@ -50,17 +52,16 @@ NarrowBand build_narrow_band(const TriangleBvh& bvh, const Box3& box, double off
     for (long n = 0; n < long(current.size()); ++n) {
       auto c = grid_coords(current[n]);
       Vec3 center = band.origin + Vec3{(c[0] + 0.5) * size, (c[1] + 0.5) * size, (c[2] + 0.5) * size};
-      double d = bvh.distance(center, offset - half_diagonal, offset + half_diagonal);
-      keep[n] = std::fabs(d - offset) <= half_diagonal;
+      // distance() answers exactly inside (lo, hi), below lo or == hi outside
+      // it, so the test must be strict at both ends.
+      double lo = offset - half_diagonal, hi = offset + half_diagonal;
+      double d = bvh.distance(center, lo, hi);
+      keep[n] = d > lo && d < hi;
     }
     evaluations += current.size();
     std::vector<uint64_t> next;
     for (size_t n = 0; n < current.size(); ++n) {
       if (!keep[n]) continue;
-      if (level == 0) {
-        next.push_back(current[n]);
-        continue;
-      }
       auto c = grid_coords(current[n]);
       for (int dz = 0; dz < 2; ++dz)
         for (int dy = 0; dy < 2; ++dy)
@@ -74,13 +75,12 @@ NarrowBand build_narrow_band(const TriangleBvh& bvh, const Box3& box, double off
     }
     current.swap(next);
   }
-  std::sort(current.begin(), current.end());
-  band.cells = std::move(current);
 
-  // Corners of the leaf cells; each sits within sqrt(3) h of the level set, so
-  // a band query of +-2h around o gives every value a crossing edge needs exactly.
-  band.corner_keys.reserve(band.cells.size() * 3);
-  for (uint64_t key : band.cells) {
+  // Corners of the candidate leaves. Each lies within 2 sqrt(3) h of the level
+  // set, so a band query of o +- 4h gives exact values wherever an edge
+  // changes sign (1-Lipschitz); values outside the band only need their sign.
+  band.corner_keys.reserve(current.size() * 3);
+  for (uint64_t key : current) {
     auto c = grid_coords(key);
     for (int v = 0; v < 8; ++v)
       band.corner_keys.push_back(grid_key(c[0] + (v & 1), c[1] + ((v >> 1) & 1), c[2] + (v >> 2)));
@@ -89,13 +89,25 @@ NarrowBand build_narrow_band(const TriangleBvh& bvh, const Box3& box, double off
   band.corner_keys.erase(std::unique(band.corner_keys.begin(), band.corner_keys.end()),
                          band.corner_keys.end());
   band.corner_values.resize(band.corner_keys.size());
-  progress.update("proxy: narrow band", double(levels + 1) / (levels + 2));
+  progress.update("proxy: narrow band", double(levels) / (levels + 1));
 #pragma omp parallel for schedule(dynamic, 1024)
   for (long n = 0; n < long(band.corner_keys.size()); ++n) {
-    double d = bvh.distance(band.corner_position(band.corner_keys[n]), offset - 2 * cell,
-                            offset + 2 * cell);
+    double d = bvh.distance(band.corner_position(band.corner_keys[n]), offset - 4 * cell,
+                            offset + 4 * cell);
     band.corner_values[n] = d - offset;
   }
+  // Leaves: the candidates whose corners change sign; the others hold no
+  // surface. Their unused corners stay (harmless, and lookups stay simple).
+  std::vector<uint64_t> leaves;
+  for (uint64_t key : current) {
+    auto c = grid_coords(key);
+    int inside = 0;
+    for (int v = 0; v < 8; ++v)
+      inside += band.value(grid_key(c[0] + (v & 1), c[1] + ((v >> 1) & 1), c[2] + (v >> 2))) < 0;
+    if (inside != 0 && inside != 8) leaves.push_back(key);
+  }
+  std::sort(leaves.begin(), leaves.end());
+  band.cells = std::move(leaves);
   band.distance_evaluations = evaluations + band.corner_keys.size();
   return band;
 }

@@ -135,7 +135,7 @@ uint32_t TriangleBvh::build_node(uint32_t first, uint32_t count, int depth) {
 double TriangleBvh::distance(Vec3 p, double lo, double hi) const {
   if (nodes_.empty()) return hi;
   double best2 = hi * hi;  // INFINITY stays INFINITY
-  double lo2 = lo * lo;
+  double lo2 = lo > 0 ? lo * lo : -1.0;  // lo <= 0: never stop early
   uint32_t stack[128];
   int top = 0;
   stack[top++] = 0;

@@ -59,11 +59,13 @@ TEST(ProxyParts, BvhDistanceMatchesBruteForce) {
     double exact = brute_distance(soup, p);
     EXPECT_NEAR(bvh.distance(p), exact, 1e-12);
     // Band query: exact inside the band, below lo / equal to hi outside it.
-    double lo = 0.1, hi = 0.3;
-    double banded = bvh.distance(p, lo, hi);
-    if (exact < lo) EXPECT_LT(banded, lo);
-    else if (exact > hi) EXPECT_EQ(banded, hi);
-    else EXPECT_NEAR(banded, exact, 1e-12);
+    for (double lo : {-0.2, 0.1}) {  // a negative lo never stops early
+      double hi = 0.3;
+      double banded = bvh.distance(p, lo, hi);
+      if (exact < lo) EXPECT_LT(banded, lo);
+      else if (exact > hi) EXPECT_EQ(banded, hi);
+      else EXPECT_NEAR(banded, exact, 1e-12);
+    }
   }
 }
 
@@ -129,7 +131,7 @@ TEST(ProxyParts, NarrowBandKeepsEveryCrossingCellOfADenseGrid) {
   Soup soup = shapes::to_soup(shapes::cube(1.0, 2), 0.002, 5);
   TriangleBvh bvh(soup);
   Box3 box = bounding_box(soup);
-  double offset = 0.08, cell = 1.0 / 24;
+  double offset = 0.08, cell = 1.0 / 40;
   NarrowBand band = build_narrow_band(bvh, box, offset, cell, Progress::none());
   // Dense twin: every cell whose corners change sign must be in the band.
   size_t dense_cells = 0, crossing = 0, missing = 0;
@@ -148,10 +150,34 @@ TEST(ProxyParts, NarrowBandKeepsEveryCrossingCellOfADenseGrid) {
       }
   EXPECT_GT(crossing, 500u);
   EXPECT_EQ(missing, 0u);
-  EXPECT_LT(band.cells.size(), dense_cells / 2);  // sparse: about the surface cells
-  // Corner values equal the brute-force field.
-  for (size_t n = 0; n < band.corner_keys.size(); n += 97)
-    EXPECT_NEAR(band.corner_values[n], brute_distance(soup, band.corner_position(band.corner_keys[n])) - offset, 1e-12);
+  EXPECT_EQ(band.cells.size(), crossing);  // and nothing else
+  // Corner values near the level set equal the brute-force field; farther
+  // ones only need the right sign.
+  for (size_t n = 0; n < band.corner_keys.size(); n += 7) {
+    double exact = brute_distance(soup, band.corner_position(band.corner_keys[n])) - offset;
+    if (std::fabs(exact) < 4 * cell)
+      EXPECT_NEAR(band.corner_values[n], exact, 1e-12);
+    else
+      EXPECT_EQ(band.corner_values[n] < 0, exact < 0);
+  }
+}
+
+// Halving the cell size must multiply the work by about 4 (the surface), not
+// 8 (the volume).
+TEST(ProxyParts, NarrowBandGrowsWithTheSurfaceNotTheVolume) {
+  Soup soup = shapes::to_soup(shapes::icosphere(1.0, 3), 1e-3, 2);
+  TriangleBvh bvh(soup);
+  Box3 box = bounding_box(soup);
+  NarrowBand coarse = build_narrow_band(bvh, box, 0.03, 0.02, Progress::none());
+  NarrowBand fine = build_narrow_band(bvh, box, 0.03, 0.01, Progress::none());
+  double cells = double(fine.cells.size()) / coarse.cells.size();
+  double corners = double(fine.corner_keys.size()) / coarse.corner_keys.size();
+  double evaluations = double(fine.distance_evaluations) / coarse.distance_evaluations;
+  EXPECT_NEAR(cells, 4.0, 0.6);
+  EXPECT_LT(corners, 6.0);
+  EXPECT_LT(evaluations, 6.0);
+  size_t dense = size_t(fine.dims[0] + 1) * (fine.dims[1] + 1) * (fine.dims[2] + 1);
+  EXPECT_LT(fine.corner_keys.size(), dense / 4);
 }
 
 // Marching tetrahedra on a hand-made band with random signs: the hardest

@@ -1,11 +1,13 @@
 // Narrow band of the offset field f(x) = d(x, soup) - o on a sparse grid.
 //
 // Input:  the soup's BVH, its bounding box, the offset o, the cell size h.
-// Output: the leaf cells of size h that the level set f = 0 can cross, and f at
-//         their corners — found coarse-to-fine: a cell survives only when
-//         |f(center)| <= its half-diagonal (d is 1-Lipschitz, so no crossing
-//         cell is ever dropped). Work and memory are proportional to the cells
-//         near the surface, not to the volume; nothing dense is ever allocated.
+// Output: the leaf cells of size h whose corners change sign (exactly the
+//         cells the level set f = 0 crosses), and f at their corners — found
+//         coarse-to-fine: a coarser cell survives only when |f(center)| <= its
+//         half-diagonal (d is 1-Lipschitz, so no crossing cell is ever
+//         dropped); the children of the surviving 2h cells are decided by
+//         their corners. Work and memory are proportional to the cells near
+//         the surface, not to the volume; nothing dense is ever allocated.
 #pragma once
 
 #include <array>
@@ -33,8 +35,8 @@ struct NarrowBand {
   double cell = 0;        // cell size h
   std::array<int, 3> dims{};  // cells along each axis
   double offset = 0;
-  std::vector<uint64_t> cells;          // leaf cells (key of their lowest corner), sorted
-  std::vector<uint64_t> corner_keys;    // corners of the leaf cells, sorted, unique
+  std::vector<uint64_t> cells;          // sign-changing leaf cells (key of their lowest corner), sorted
+  std::vector<uint64_t> corner_keys;    // corners of the candidate leaf cells, sorted, unique
   std::vector<double> corner_values;    // f = d - o at corner_keys
   size_t distance_evaluations = 0;
 

@@ -38,7 +38,8 @@ struct ProxyOptions {
   int min_resolution = 16;
   int max_resolution = 512;
 
-  // Remeshing to a target edge length (isotropic, CGAL PMP); 0 = auto
+  // Remeshing to a target edge length: short-edge collapse (CGAL SMS), then
+  // isotropic remeshing (CGAL PMP); 0 = auto
   // (the offset o: the offset surface bends no tighter than radius o on its
   // convex parts). Verified afterwards; undone with a warning if it broke a check.
   bool remesh = true;
