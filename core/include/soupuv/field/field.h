@@ -30,7 +30,10 @@ struct ChargeOptions {
   // Target max-norm relative deviation of the surface potential from its mean.
   double tolerance = 1e-6;
   int quadrature_degree = 4;        // 2, 4 or 6 (3, 6, 12 points per triangle)
-  int fmm_order = 8;                // Taylor expansion order p of the FMM
+  // Taylor expansion order p of the FMM; 0: from the tolerance (the FMM's own
+  // error must stay below it: measured max rel. error at theta 0.5 is
+  // p=4: 5e-5, 6: 4e-6, 8: 4e-7, 10: 5e-8, see tests/core/field/fmm_test.cpp).
+  int fmm_order = 0;
   double fmm_theta = 0.5;           // multipole acceptance: (r_a + r_b) < theta * distance
   int threads = 0;                  // 0: OpenMP default
   // Triangles with area > refine_area_ratio * median area are split (midpoint
@@ -87,6 +90,9 @@ struct TraceSeed {
   int side = 0;          // +1 along normal, -1 against, 0: the side where |E| is larger
   uint32_t corner = 0;   // triangle * 3 + k, copied into FieldLines::corner
 };
+
+// The FMM order solve_charges uses for `tolerance` when fmm_order is 0.
+int fmm_order_for_tolerance(double tolerance);
 
 // One seed per soup triangle corner (triangle * 3 + k), side 0.
 std::vector<TraceSeed> corner_seeds(const Soup& soup);

@@ -1,0 +1,65 @@
+// Cartesian Taylor expansions of the Laplace kernel 1/|x - y| for the fast
+// multipole method: the P2M, M2M, M2L, L2L, L2P and M2P operators of order p.
+//
+// Multipole moments about a centre c:  M_a = sum_j q_j (y_j - c)^a
+// Far potential:   phi(x) = sum_a M_a k_a(x - c),  k_a(R) = (1/a!) d^a/dy^a 1/|x - y|
+// Local expansion about z:  phi(x) = sum_b L_b (x - z)^b
+// Multi-indices a = (i, j, k) with i + j + k <= p, ordered by total degree.
+// The kernel derivatives come from the recurrence
+//   |a| r^2 k_a = (2|a| - 1) sum_i R_i k_{a-e_i} - (|a| - 1) sum_i k_{a-2e_i}.
+// All translation operators are flat lists of (from, to, power, coefficient)
+// terms built once per order, so an application is one tight loop.
+#pragma once
+
+#include <array>
+#include <vector>
+
+#include "soupuv/vec.h"
+
+namespace soupuv::field {
+
+class TaylorBasis {
+ public:
+  explicit TaylorBasis(int order);
+
+  int order() const { return p_; }
+  // Number of coefficients with total degree <= order.
+  int size() const { return size_for(p_); }
+  // Coefficients of total degree <= q (q may be order + 1 for M2P fields).
+  static int size_for(int q) { return (q + 1) * (q + 2) * (q + 3) / 6; }
+  const std::array<int, 3>& multi_index(int n) const { return index_[n]; }
+
+  // k_a(R) for all |a| <= q into out[size_for(q)].
+  void kernel(Vec3 R, int q, double* out) const;
+  // (d)^a for all |a| <= q.
+  void monomials(Vec3 d, int q, double* out) const;
+
+  // M += moments of point charges q at x about centre c.
+  void p2m(Vec3 c, const Vec3* x, const double* q, int n, double* M) const;
+  // Mparent += child's moments shifted by d = child centre - parent centre.
+  void m2m(const double* Mchild, Vec3 d, double* Mparent) const;
+  // L += local expansion about the target centre of moments M, R = target centre - source centre.
+  void m2l(const double* M, Vec3 R, double* L) const;
+  // Lchild += parent expansion re-centred, d = child centre - parent centre.
+  void l2l(const double* Lparent, Vec3 d, double* Lchild) const;
+  // Potential and field (-grad) of a local expansion at offset d = x - centre.
+  void l2p(const double* L, Vec3 d, double* phi, Vec3* E) const;
+  // Potential and field of moments M directly at offset R = x - source centre.
+  void m2p(const double* M, Vec3 R, double* phi, Vec3* E) const;
+
+ private:
+  struct Term {
+    int from, to, power;
+    double coef;
+  };
+  int at(int i, int j, int k) const { return lookup_[(i * (p_ + 3) + j) * (p_ + 3) + k]; }
+
+  int p_;
+  std::vector<std::array<int, 3>> index_;      // up to order p + 1
+  std::vector<int> lookup_;                    // (i, j, k) -> linear index, -1 outside
+  std::vector<Term> shift_;                    // M2M / L2L binomial shifts
+  std::vector<Term> m2l_;                      // from = a, to = b, power = a + b
+  std::vector<std::array<int, 3>> down_;       // per coefficient: index of a - e_i (-1 if none)
+};
+
+}  // namespace soupuv::field

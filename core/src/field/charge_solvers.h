@@ -1,0 +1,15 @@
+// The charge solvers behind solve_charges (charge.cpp). Each takes the
+// source geometry, the options and a result to fill (charges, iterations,
+// history); the caller refines, normalises and verifies.
+#pragma once
+
+#include "soupuv/field/field.h"
+#include "soupuv/field/sources.h"
+
+namespace soupuv::field {
+
+void solve_krylov(const SourceGeometry& src, const ChargeOptions& o, Progress& progress, ChargeResult& r);
+void solve_robin_hood(const SourceGeometry& src, const ChargeOptions& o, Progress& progress, ChargeResult& r);
+void solve_dense_lu(const SourceGeometry& src, const ChargeOptions& o, Progress& progress, ChargeResult& r);
+
+}  // namespace soupuv::field

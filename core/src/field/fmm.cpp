@@ -1,0 +1,363 @@
+// Dual-tree FMM over charged triangles (see fmm.h for the picture).
+#include "soupuv/field/fmm.h"
+
+#include <omp.h>
+
+#include <algorithm>
+#include <array>
+#include <chrono>
+#include <cmath>
+#include <limits>
+
+#include "soupuv/field/triangle_integrals.h"
+
+namespace soupuv::field {
+
+namespace {
+using Clock = std::chrono::steady_clock;
+double since(Clock::time_point t0) {
+  return std::chrono::duration<double>(Clock::now() - t0).count();
+}
+constexpr int kMaxLevel = 24;
+constexpr double kSqrt3 = 1.7320508075688772;
+
+int octant(Vec3 p, Vec3 c) { return (p.x > c.x) | ((p.y > c.y) << 1) | ((p.z > c.z) << 2); }
+Vec3 child_center(Vec3 c, double half, int o) {
+  double q = half / 2;
+  return {c.x + ((o & 1) ? q : -q), c.y + ((o & 2) ? q : -q), c.z + ((o & 4) ? q : -q)};
+}
+int threads_or_default(int t) { return t > 0 ? t : omp_get_max_threads(); }
+}  // namespace
+
+Fmm::Fmm(const SourceGeometry& sources, const FmmOptions& options, Box3 region)
+    : src_(sources), opt_(options), basis_(options.order), ncoef_(basis_.size()) {
+  auto t0 = Clock::now();
+  build_source_tree();
+  build_target_tree(region, nullptr);
+  stats_.build_seconds = since(t0);
+}
+
+Fmm::Fmm(const SourceGeometry& sources, const FmmOptions& options, const std::vector<Vec3>& targets)
+    : src_(sources), opt_(options), basis_(options.order), ncoef_(basis_.size()) {
+  auto t0 = Clock::now();
+  build_source_tree();
+  Box3 region;
+  for (Vec3 x : targets) region.add(x);
+  build_target_tree(region, &targets);
+  stats_.build_seconds = since(t0);
+}
+
+void Fmm::build_source_tree() {
+  const size_t n = src_.size();
+  order_.resize(n);
+  for (size_t i = 0; i < n; ++i) order_[i] = static_cast<uint32_t>(i);
+  Box3 box;
+  for (size_t i = 0; i < n; ++i) box.add(src_.centroid[i]);
+  if (box.empty()) box.add({0, 0, 0});
+  Vec3 ext = box.extent();
+  double half = 0.5 * std::max({ext.x, ext.y, ext.z, 1e-12}) * 1.0001;
+  scells_.push_back({box.center(), half, {}, 0, 0, static_cast<int>(n), -1, 0, 0});
+  // Breadth-first: children of a cell are created contiguously.
+  for (size_t ci = 0; ci < scells_.size(); ++ci) {
+    SourceCell cell = scells_[ci];
+    if (cell.count <= opt_.leaf_size || cell.level >= kMaxLevel) continue;
+    std::array<std::vector<uint32_t>, 8> parts;
+    for (int k = cell.first; k < cell.first + cell.count; ++k)
+      parts[octant(src_.centroid[order_[k]], cell.center)].push_back(order_[k]);
+    int pos = cell.first;
+    scells_[ci].child_first = static_cast<int>(scells_.size());
+    for (int o = 0; o < 8; ++o) {
+      if (parts[o].empty()) continue;
+      SourceCell ch;
+      ch.center = child_center(cell.center, cell.half, o);
+      ch.half = cell.half / 2;
+      ch.first = pos;
+      ch.count = static_cast<int>(parts[o].size());
+      ch.level = cell.level + 1;
+      std::copy(parts[o].begin(), parts[o].end(), order_.begin() + pos);
+      pos += ch.count;
+      scells_.push_back(ch);
+      ++scells_[ci].children;
+    }
+  }
+  // Expansion centres and radii enclose every vertex of the cell's triangles,
+  // so both the quadrature points and the closed-form supports are covered.
+  for (auto& cell : scells_) {
+    Box3 b;
+    for (int k = cell.first; k < cell.first + cell.count; ++k) {
+      uint32_t j = order_[k];
+      b.add(src_.a[j]); b.add(src_.b[j]); b.add(src_.c[j]);
+    }
+    if (b.empty()) b.add(cell.center);
+    cell.mc = b.center();
+    double r2 = 0;
+    for (int k = cell.first; k < cell.first + cell.count; ++k) {
+      uint32_t j = order_[k];
+      r2 = std::max({r2, norm2(src_.a[j] - cell.mc), norm2(src_.b[j] - cell.mc), norm2(src_.c[j] - cell.mc)});
+    }
+    cell.radius = std::sqrt(r2);
+    if (static_cast<int>(slevels_.size()) <= cell.level) slevels_.resize(cell.level + 1);
+  }
+  for (size_t ci = 0; ci < scells_.size(); ++ci) {
+    slevels_[scells_[ci].level].push_back(static_cast<int>(ci));
+    ++stats_.source_cells;
+    if (scells_[ci].children == 0) ++stats_.source_leaves;
+  }
+  const int m = src_.points_per_triangle;
+  points_.resize(n * m);
+  for (size_t k = 0; k < n; ++k)
+    for (int q = 0; q < m; ++q) points_[k * m + q] = src_.qpoints[order_[k] * m + q];
+  point_charge_.assign(n * m, 0.0);
+  tri_charge_.assign(n, 0.0);
+}
+
+void Fmm::split_target(int A) {
+  if (tcells_[A].child_first >= 0) return;
+  TargetCell parent = tcells_[A];
+  tcells_[A].child_first = static_cast<int>(tcells_.size());
+  for (int o = 0; o < 8; ++o) {
+    TargetCell ch;
+    ch.center = child_center(parent.center, parent.half, o);
+    ch.half = parent.half / 2;
+    ch.parent = A;
+    ch.level = parent.level + 1;
+    tcells_.push_back(ch);
+  }
+  m2l_.resize(tcells_.size());
+  near_.resize(tcells_.size());
+  if (parent.targets >= 0) {
+    target_members_.resize(tcells_.size());
+    std::vector<uint32_t> members = std::move(target_members_[A]);
+    target_members_[A].clear();
+    const int first = tcells_[A].child_first;
+    for (int o = 0; o < 8; ++o) tcells_[first + o].targets = 0;
+    for (uint32_t i : members) {
+      int c = first + octant(target_points_[i], parent.center);
+      target_members_[c].push_back(i);
+      ++tcells_[c].targets;
+    }
+  }
+}
+
+void Fmm::traverse(int A, int B) {
+  const SourceCell& sb = scells_[B];
+  const double rA = tcells_[A].half * kSqrt3;
+  const double d = norm(tcells_[A].center - sb.mc);
+  if (rA + sb.radius < opt_.theta * d) {
+    m2l_[A].push_back(B);
+    ++stats_.m2l_pairs;
+    return;
+  }
+  if (tcells_[A].targets == 0) return;  // no target will ever ask here
+  const bool b_leaf = sb.children == 0;
+  const bool a_small = tcells_[A].half <= sb.half * opt_.target_coarsening * 1.0001 ||
+                       tcells_[A].level >= kMaxLevel ||
+                       (tcells_[A].targets >= 0 && tcells_[A].targets <= opt_.leaf_size);
+  if (b_leaf && a_small && tcells_[A].child_first < 0) {
+    near_[A].push_back(B);
+    ++stats_.near_leaf_pairs;
+    return;
+  }
+  if (!b_leaf && (a_small || sb.half >= tcells_[A].half)) {
+    const int first = sb.child_first, count = sb.children;
+    for (int k = 0; k < count; ++k) traverse(A, first + k);
+    return;
+  }
+  split_target(A);
+  const int first = tcells_[A].child_first;
+  for (int o = 0; o < 8; ++o) traverse(first + o, B);
+}
+
+void Fmm::build_target_tree(Box3 region, const std::vector<Vec3>* targets) {
+  Box3 box = region;
+  for (size_t i = 0; i < src_.size(); ++i) {
+    box.add(src_.a[i]); box.add(src_.b[i]); box.add(src_.c[i]);
+  }
+  if (box.empty()) box.add({0, 0, 0});
+  Vec3 ext = box.extent();
+  double half = 0.5 * std::max({ext.x, ext.y, ext.z, 1e-12}) * 1.001;
+  tcells_.push_back({-1, box.center(), half, -1, -1, 0});
+  m2l_.resize(1);
+  near_.resize(1);
+  if (targets) {
+    target_points_ = *targets;
+    tcells_[0].targets = static_cast<int>(targets->size());
+    target_members_.resize(1);
+    for (size_t i = 0; i < targets->size(); ++i) target_members_[0].push_back(static_cast<uint32_t>(i));
+  }
+  if (!scells_.empty() && src_.size() > 0) traverse(0, 0);
+  // A cell that was a leaf when it met a source leaf may have been split by a
+  // later pair: hand its direct pairs down to its children (which may split
+  // further; children always come after their parent, so one pass suffices).
+  for (size_t A = 0; A < tcells_.size(); ++A) {
+    if (tcells_[A].child_first < 0 || near_[A].empty()) continue;
+    std::vector<int> list = std::move(near_[A]);
+    near_[A].clear();
+    stats_.near_leaf_pairs -= list.size();
+    for (int B : list)
+      for (int o = 0; o < 8; ++o) traverse(tcells_[A].child_first + o, B);
+  }
+  for (size_t A = 0; A < tcells_.size(); ++A) {
+    if (static_cast<int>(tlevels_.size()) <= tcells_[A].level) tlevels_.resize(tcells_[A].level + 1);
+    tlevels_[tcells_[A].level].push_back(static_cast<int>(A));
+  }
+  stats_.target_cells = tcells_.size();
+  target_members_.clear();
+  target_members_.shrink_to_fit();
+}
+
+void Fmm::set_charges(const std::vector<double>& charges) {
+  const int nth = threads_or_default(opt_.threads);
+  const int m = src_.points_per_triangle;
+  const long n = static_cast<long>(src_.size());
+  auto t0 = Clock::now();
+#pragma omp parallel for num_threads(nth) schedule(static)
+  for (long k = 0; k < n; ++k) {
+    double q = charges[order_[k]];
+    tri_charge_[k] = q;
+    for (int i = 0; i < m; ++i) point_charge_[k * m + i] = q * src_.qweights[i];
+  }
+  M_.assign(scells_.size() * ncoef_, 0.0);
+  for (int level = static_cast<int>(slevels_.size()) - 1; level >= 0; --level) {
+    const auto& cells = slevels_[level];
+#pragma omp parallel for num_threads(nth) schedule(dynamic, 4)
+    for (long i = 0; i < static_cast<long>(cells.size()); ++i) {
+      const SourceCell& c = scells_[cells[i]];
+      double* M = &M_[static_cast<size_t>(cells[i]) * ncoef_];
+      if (c.children == 0) {
+        basis_.p2m(c.mc, &points_[static_cast<size_t>(c.first) * m], &point_charge_[static_cast<size_t>(c.first) * m],
+                   c.count * m, M);
+      } else {
+        for (int k = 0; k < c.children; ++k) {
+          const SourceCell& ch = scells_[c.child_first + k];
+          basis_.m2m(&M_[static_cast<size_t>(c.child_first + k) * ncoef_], ch.mc - c.mc, M);
+        }
+      }
+    }
+  }
+  stats_.upward_seconds = since(t0);
+  t0 = Clock::now();
+  L_.assign(tcells_.size() * ncoef_, 0.0);
+#pragma omp parallel for num_threads(nth) schedule(dynamic, 8)
+  for (long A = 0; A < static_cast<long>(tcells_.size()); ++A) {
+    double* L = &L_[static_cast<size_t>(A) * ncoef_];
+    for (int B : m2l_[A]) basis_.m2l(&M_[static_cast<size_t>(B) * ncoef_], tcells_[A].center - scells_[B].mc, L);
+  }
+  stats_.m2l_seconds = since(t0);
+  t0 = Clock::now();
+  for (size_t level = 1; level < tlevels_.size(); ++level) {
+    const auto& cells = tlevels_[level];
+#pragma omp parallel for num_threads(nth) schedule(static)
+    for (long i = 0; i < static_cast<long>(cells.size()); ++i) {
+      const TargetCell& c = tcells_[cells[i]];
+      basis_.l2l(&L_[static_cast<size_t>(c.parent) * ncoef_], c.center - tcells_[c.parent].center,
+                 &L_[static_cast<size_t>(cells[i]) * ncoef_]);
+    }
+  }
+  stats_.downward_seconds = since(t0);
+}
+
+int Fmm::locate(Vec3 x) const {
+  const TargetCell& root = tcells_[0];
+  Vec3 d = x - root.center;
+  if (std::fabs(d.x) > root.half || std::fabs(d.y) > root.half || std::fabs(d.z) > root.half) return -1;
+  int A = 0;
+  while (tcells_[A].child_first >= 0) A = tcells_[A].child_first + octant(x, tcells_[A].center);
+  return A;
+}
+
+double Fmm::near_part(int leaf, Vec3 x, double* phi, Vec3* E, bool skip_close) const {
+  const int m = src_.points_per_triangle;
+  double nearest = std::numeric_limits<double>::infinity();
+  double f = 0;
+  double ex = 0, ey = 0, ez = 0;
+  for (int B : near_[leaf]) {
+    const SourceCell& c = scells_[B];
+    for (int k = c.first; k < c.first + c.count; ++k) {
+      const uint32_t j = order_[k];
+      const double q = tri_charge_[k];
+      if (src_.is_near(j, x)) {
+        if (skip_close) continue;
+        if (!(src_.area[j] > 0)) continue;
+        TriangleIntegrals t = triangle_integrals(src_.a[j], src_.b[j], src_.c[j], x);
+        double s = q / src_.area[j];
+        f += s * t.potential;
+        ex += s * t.field.x; ey += s * t.field.y; ez += s * t.field.z;
+        if (E) nearest = std::min(nearest, point_triangle_distance(src_.a[j], src_.b[j], src_.c[j], x));
+        continue;
+      }
+      const Vec3* p = &points_[static_cast<size_t>(k) * m];
+      const double* w = &point_charge_[static_cast<size_t>(k) * m];
+      for (int i = 0; i < m; ++i) {
+        double dx = x.x - p[i].x, dy = x.y - p[i].y, dz = x.z - p[i].z;
+        double inv = 1.0 / std::sqrt(dx * dx + dy * dy + dz * dz);
+        double wi = w[i] * inv;
+        f += wi;
+        double w3 = wi * inv * inv;
+        ex += w3 * dx; ey += w3 * dy; ez += w3 * dz;
+      }
+    }
+  }
+  if (phi) *phi += f;
+  if (E) *E += Vec3{ex, ey, ez};
+  return nearest;
+}
+
+void Fmm::evaluate(Vec3 x, double* phi, Vec3* E, double* nearest_close) const {
+  int leaf = locate(x);
+  if (leaf < 0) {
+    // Outside the target region: the source root's multipole when it is well
+    // separated, else every source leaf directly (rare; callers size the region).
+    const SourceCell& root = scells_[0];
+    if (root.radius < opt_.theta * norm(x - root.mc)) {
+      basis_.m2p(&M_[0], x - root.mc, phi, E);
+      if (nearest_close) *nearest_close = std::numeric_limits<double>::infinity();
+      return;
+    }
+    double f = 0;
+    Vec3 e{0, 0, 0};
+    double nearest = std::numeric_limits<double>::infinity();
+    for (size_t k = 0; k < order_.size(); ++k) {
+      uint32_t j = order_[k];
+      double pj = 0;
+      Vec3 ej{0, 0, 0};
+      unit_potential_field(src_, j, x, &pj, &ej);
+      f += tri_charge_[k] * pj;
+      e += tri_charge_[k] * ej;
+      if (src_.is_near(j, x))
+        nearest = std::min(nearest, point_triangle_distance(src_.a[j], src_.b[j], src_.c[j], x));
+    }
+    if (phi) *phi += f;
+    if (E) *E += e;
+    if (nearest_close) *nearest_close = nearest;
+    return;
+  }
+  basis_.l2p(&L_[static_cast<size_t>(leaf) * ncoef_], x - tcells_[leaf].center, phi, E);
+  double nearest = near_part(leaf, x, phi, E, false);
+  if (nearest_close) *nearest_close = nearest;
+}
+
+double Fmm::potential_without_close(int leaf, Vec3 x) const {
+  double phi = 0;
+  basis_.l2p(&L_[static_cast<size_t>(leaf) * ncoef_], x - tcells_[leaf].center, &phi, nullptr);
+  near_part(leaf, x, &phi, nullptr, true);
+  return phi;
+}
+
+std::vector<uint32_t> Fmm::near_source_triangles(int leaf) const {
+  std::vector<uint32_t> out;
+  for (int B : near_[leaf]) {
+    const SourceCell& c = scells_[B];
+    out.insert(out.end(), order_.begin() + c.first, order_.begin() + c.first + c.count);
+  }
+  return out;
+}
+
+std::vector<std::vector<uint32_t>> Fmm::source_leaf_triangles() const {
+  std::vector<std::vector<uint32_t>> out;
+  for (const auto& c : scells_)
+    if (c.children == 0) out.emplace_back(order_.begin() + c.first, order_.begin() + c.first + c.count);
+  return out;
+}
+
+}  // namespace soupuv::field

@@ -1,0 +1,171 @@
+// Cartesian Taylor FMM operators (see taylor.h for the conventions).
+#include "soupuv/field/taylor.h"
+
+#include <cmath>
+
+namespace soupuv::field {
+
+namespace {
+double binomial(int n, int k) {
+  double r = 1;
+  for (int i = 1; i <= k; ++i) r = r * (n - k + i) / i;
+  return r;
+}
+}  // namespace
+
+TaylorBasis::TaylorBasis(int order) : p_(order) {
+  const int q = p_ + 1;  // kernel order needed by M2P fields
+  const int dim = p_ + 3;
+  lookup_.assign(dim * dim * dim, -1);
+  for (int deg = 0; deg <= q; ++deg)
+    for (int i = deg; i >= 0; --i)
+      for (int j = deg - i; j >= 0; --j) {
+        int k = deg - i - j;
+        lookup_[(i * dim + j) * dim + k] = static_cast<int>(index_.size());
+        index_.push_back({i, j, k});
+      }
+  const int n = size_for(p_);
+  down_.resize(index_.size());
+  for (size_t a = 0; a < index_.size(); ++a)
+    for (int d = 0; d < 3; ++d) {
+      auto m = index_[a];
+      down_[a][d] = m[d] > 0 ? (--m[d], at(m[0], m[1], m[2])) : -1;
+    }
+  // shift: (y - c_parent)^a = sum_{b <= a} C(a, b) d^(a-b) (y - c_child)^b
+  for (int a = 0; a < n; ++a) {
+    auto A = index_[a];
+    for (int b = 0; b < n; ++b) {
+      auto B = index_[b];
+      if (B[0] > A[0] || B[1] > A[1] || B[2] > A[2]) continue;
+      double c = binomial(A[0], B[0]) * binomial(A[1], B[1]) * binomial(A[2], B[2]);
+      shift_.push_back({b, a, at(A[0] - B[0], A[1] - B[1], A[2] - B[2]), c});
+    }
+  }
+  // m2l: L_b += (-1)^|b| C(a+b, a) k_{a+b}(R) M_a for |a| + |b| <= p
+  for (int a = 0; a < n; ++a) {
+    auto A = index_[a];
+    for (int b = 0; b < n; ++b) {
+      auto B = index_[b];
+      int deg = A[0] + A[1] + A[2] + B[0] + B[1] + B[2];
+      if (deg > p_) continue;
+      double c = binomial(A[0] + B[0], A[0]) * binomial(A[1] + B[1], A[1]) *
+                 binomial(A[2] + B[2], A[2]);
+      if ((B[0] + B[1] + B[2]) % 2) c = -c;
+      m2l_.push_back({a, b, at(A[0] + B[0], A[1] + B[1], A[2] + B[2]), c});
+    }
+  }
+}
+
+void TaylorBasis::kernel(Vec3 R, int q, double* out) const {
+  const int n = size_for(q);
+  double r2 = dot(R, R);
+  out[0] = 1.0 / std::sqrt(r2);
+  double inv_r2 = 1.0 / r2;
+  for (int a = 1; a < n; ++a) {
+    const auto& A = index_[a];
+    int deg = A[0] + A[1] + A[2];
+    double s1 = 0, s2 = 0;
+    for (int d = 0; d < 3; ++d) {
+      int m1 = down_[a][d];
+      if (m1 < 0) continue;
+      s1 += R[d] * out[m1];
+      int m2 = down_[m1][d];
+      if (m2 >= 0) s2 += out[m2];
+    }
+    out[a] = ((2 * deg - 1) * s1 - (deg - 1) * s2) * inv_r2 / deg;
+  }
+}
+
+void TaylorBasis::monomials(Vec3 d, int q, double* out) const {
+  const int n = size_for(q);
+  out[0] = 1;
+  for (int a = 1; a < n; ++a) {
+    // multiply the monomial one degree lower by the first coordinate present
+    for (int c = 0; c < 3; ++c)
+      if (down_[a][c] >= 0) {
+        out[a] = out[down_[a][c]] * d[c];
+        break;
+      }
+  }
+}
+
+void TaylorBasis::p2m(Vec3 c, const Vec3* x, const double* q, int n, double* M) const {
+  const int m = size();
+  double mono[512];
+  std::vector<double> big;
+  double* w = mono;
+  if (m > 512) {
+    big.resize(m);
+    w = big.data();
+  }
+  for (int j = 0; j < n; ++j) {
+    monomials(x[j] - c, p_, w);
+    for (int a = 0; a < m; ++a) M[a] += q[j] * w[a];
+  }
+}
+
+void TaylorBasis::m2m(const double* Mchild, Vec3 d, double* Mparent) const {
+  std::vector<double> w(size());
+  monomials(d, p_, w.data());
+  for (const Term& t : shift_) Mparent[t.to] += t.coef * w[t.power] * Mchild[t.from];
+}
+
+void TaylorBasis::m2l(const double* M, Vec3 R, double* L) const {
+  double kbuf[1024];
+  std::vector<double> big;
+  double* k = kbuf;
+  if (size() > 1024) {
+    big.resize(size());
+    k = big.data();
+  }
+  kernel(R, p_, k);
+  for (const Term& t : m2l_) L[t.to] += t.coef * k[t.power] * M[t.from];
+}
+
+void TaylorBasis::l2l(const double* Lparent, Vec3 d, double* Lchild) const {
+  std::vector<double> w(size());
+  monomials(d, p_, w.data());
+  // the shift list maps b -> a with a >= b; a local expansion shifts from a down to b
+  for (const Term& t : shift_) Lchild[t.from] += t.coef * w[t.power] * Lparent[t.to];
+}
+
+void TaylorBasis::l2p(const double* L, Vec3 d, double* phi, Vec3* E) const {
+  const int n = size();
+  double wbuf[1024];
+  std::vector<double> big;
+  double* w = wbuf;
+  if (n > 1024) {
+    big.resize(n);
+    w = big.data();
+  }
+  monomials(d, p_, w);
+  double f = 0, gx = 0, gy = 0, gz = 0;
+  for (int b = 0; b < n; ++b) {
+    const auto& B = index_[b];
+    f += L[b] * w[b];
+    if (B[0]) gx += B[0] * L[b] * w[down_[b][0]];
+    if (B[1]) gy += B[1] * L[b] * w[down_[b][1]];
+    if (B[2]) gz += B[2] * L[b] * w[down_[b][2]];
+  }
+  if (phi) *phi += f;
+  if (E) *E -= Vec3{gx, gy, gz};
+}
+
+void TaylorBasis::m2p(const double* M, Vec3 R, double* phi, Vec3* E) const {
+  const int n = size();
+  const int q = p_ + 1;
+  std::vector<double> k(size_for(q));
+  kernel(R, q, k.data());
+  double f = 0, ex = 0, ey = 0, ez = 0;
+  for (int a = 0; a < n; ++a) {
+    const auto& A = index_[a];
+    f += M[a] * k[a];
+    ex += M[a] * (A[0] + 1) * k[at(A[0] + 1, A[1], A[2])];
+    ey += M[a] * (A[1] + 1) * k[at(A[0], A[1] + 1, A[2])];
+    ez += M[a] * (A[2] + 1) * k[at(A[0], A[1], A[2] + 1)];
+  }
+  if (phi) *phi += f;
+  if (E) *E += Vec3{ex, ey, ez};
+}
+
+}  // namespace soupuv::field
