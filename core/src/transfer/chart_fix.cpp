@@ -106,6 +106,9 @@ ChartFixResult fix_chart_boundaries(const Soup& soup, const proxy::ProxyMesh& pr
           SurfacePoint extended = land[j];
           extended.bary = plane_barycentric(mesh, land[j].face, p);
           uv[j] = atlas_uv(atlas, extended);
+          // A chart packed against the atlas border must not extend past it.
+          uv[j].x = std::clamp(uv[j].x, 0.0, 1.0);
+          uv[j].y = std::clamp(uv[j].y, 0.0, 1.0);
         }
       }
       double err = std::abs(uv_area(uv[0], uv[1], uv[2]) / scale2 - area3);
