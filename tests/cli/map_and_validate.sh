@@ -15,12 +15,14 @@ rm -f "$out.glb" "$out.json"
 node "$source_dir/tests/tools/validate.mjs" "$out.glb" --soupuv-output --quiet
 node "$source_dir/tests/tools/check_schema.mjs" "$source_dir/proto/diagnostics.schema.json" "$out.json"
 
-triangles() { "$soupuv" inspect "$@" | node -e 'console.log(JSON.parse(require("fs").readFileSync(0, "utf8")).triangles)'; }
+# inspect pretty-prints with two-space indentation: the top-level count is the
+# line '  "triangles": N,'.
+triangles() { "$soupuv" inspect "$@" | sed -n 's/^  "triangles": \([0-9]*\),\{0,1\}$/\1/p'; }
 ext=()
 case "$input" in *.gltf) ext=(--allow-external-uris) ;; esac
 before=$(triangles "$input" "${ext[@]}")
 after=$(triangles "$out.glb")
-if [ "$before" != "$after" ]; then
+if [ -z "$before" ] || [ "$before" != "$after" ]; then
   echo "triangle count changed: input $before, output $after"
   exit 1
 fi
