@@ -1,6 +1,8 @@
 #!/usr/bin/env bash
 # Load test of soupuv-server with curl (loopback or your own deployment only).
-#   deploy/load/load.sh [-u URL] [-n JOBS] [-c CONCURRENCY] [-f FILE] [-m METHOD] [-t SECONDS]
+#   deploy/load/load.sh [-u URL] [-n JOBS] [-c CONCURRENCY] [-f FILE] [-m METHOD] [-q QUERY] [-t SECONDS]
+# QUERY is extra job parameters (default texture_size=64: the load is on the
+# server, not on PNG encoding).
 # Submits N jobs from C concurrent clients (each retries 429/503 after
 # Retry-After, at most 120 times), polls each to its end, downloads and checks
 # every result, while a prober measures GET /v1/jobs/{id} and /healthz latency.
@@ -8,11 +10,12 @@
 # no 5xx, every 429/503 had Retry-After, no lost or duplicated job.
 # Bounded: stops after -t seconds (default 600) whatever happens.
 set -uo pipefail
-url=http://127.0.0.1:8080 n=20 c=4 method=box limit=600
+url=http://127.0.0.1:8080 n=20 c=4 method=box limit=600 query=texture_size=64
 here=$(cd "$(dirname "$0")" && pwd)
 file=$here/../../../shared/data/gltf/Box.glb
-while getopts "u:n:c:f:m:t:" o; do
-  case $o in u) url=$OPTARG ;; n) n=$OPTARG ;; c) c=$OPTARG ;; f) file=$OPTARG ;; m) method=$OPTARG ;; t) limit=$OPTARG ;; *) exit 2 ;; esac
+while getopts "u:n:c:f:m:q:t:" o; do
+  case $o in u) url=$OPTARG ;; n) n=$OPTARG ;; c) c=$OPTARG ;; f) file=$OPTARG ;; m) method=$OPTARG ;; q) query=$OPTARG ;;
+    t) limit=$OPTARG ;; *) exit 2 ;; esac
 done
 auth=()
 [ -n "${SOUPUV_TOKEN:-}" ] && auth=(-H "Authorization: Bearer $SOUPUV_TOKEN")
@@ -20,7 +23,7 @@ case "$file" in *.gltf) type=model/gltf+json ;; *.drc) type=application/octet-st
 work=$(mktemp -d)
 trap 'kill $(jobs -p) 2>/dev/null; rm -rf "$work"' EXIT
 deadline=$(( $(date +%s) + limit ))
-export url file type method work deadline
+export url file type method work deadline query
 export auth_header=${SOUPUV_TOKEN:+"Authorization: Bearer $SOUPUV_TOKEN"}
 
 one_job() {  # $1 = job number; appends to $work/submits, $work/jobs
@@ -29,7 +32,7 @@ one_job() {  # $1 = job number; appends to $work/submits, $work/jobs
   while :; do
     tries=$((tries + 1))
     out=$(curl -sS -D "$work/h.$i" -o "$work/b.$i" -w '%{http_code} %{time_total}' "${h[@]}" \
-      -H "Content-Type: $type" -H "Idempotency-Key: load-$$-$i" --data-binary "@$file" "$url/v1/jobs?method=$method") || out="000 0"
+      -H "Content-Type: $type" -H "Idempotency-Key: load-$$-$i" --data-binary "@$file" "$url/v1/jobs?method=$method${query:+&$query}") || out="000 0"
     read -r code t <<<"$out"
     ra=$(grep -i '^Retry-After:' "$work/h.$i" | tr -dc '0-9')
     echo "$code $t ${ra:-none}" >> "$work/submits"
@@ -47,7 +50,7 @@ one_job() {  # $1 = job number; appends to $work/submits, $work/jobs
     while [ "$(date +%s)" -lt "$deadline" ]; do
       state=$(curl -sS "${h[@]}" "$url/v1/jobs/$id" | sed -n 's/.*"state":"\([a-z]*\)".*/\1/p')
       case "$state" in succeeded|failed|canceled) break ;; esac
-      sleep 0.3
+      sleep 1  # many clients on few cores: polling must not starve the workers
     done
     if [ "$state" = succeeded ]; then
       curl -sS -f "${h[@]}" -o "$work/r.$i" "$url/v1/jobs/$id/result" && [ "$(head -c 4 "$work/r.$i")" = glTF ] || state=bad-result
