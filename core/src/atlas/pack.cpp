@@ -284,11 +284,6 @@ PackResult pack_charts(std::vector<PackChart>& charts, int texture_size, double 
       area += 0.5 * std::fabs(cross(uv[t[1]] - uv[t[0]], uv[t[2]] - uv[t[0]]));
     }
   }
-  std::vector<int> order(n);
-  std::iota(order.begin(), order.end(), 0);
-  std::stable_sort(order.begin(), order.end(), [&](int a, int b) {
-    return sizes[a].x * sizes[a].y > sizes[b].x * sizes[b].y;
-  });
   Grid grid;
   grid.columns = std::max(16, std::min(texture_size, 2048) / 4);
   grid.rows = std::min(texture_size, 4096);
@@ -300,23 +295,42 @@ PackResult pack_charts(std::vector<PackChart>& charts, int texture_size, double 
   // largest scale seen to fit, `hi` the smallest seen to overflow.
   std::vector<Placement> placements, best_placements;
   const double full = texture_size / std::sqrt(std::max(area, 1e-300));  // 100% utilisation
-  double lo = 0, hi = full, s = full * std::sqrt(0.8);
-  for (int it = 0; it < 40 && (lo == 0 || hi / lo > 1.01); ++it) {
-    ++result.attempts;
-    int used = pack_at(charts, sizes, order, s, padding_px, grid, placements);
-    if (used <= grid.rows) {
-      lo = s;
-      best_placements = placements;
-    } else {
-      hi = std::min(hi, s);
+  double lo = 0;
+  auto search = [&](const std::vector<int>& order, double start, double lo_known) {
+    double hi = full, s = start, found = lo_known;
+    for (int it = 0; it < 40 && (found == 0 || hi / found > 1.005); ++it) {
+      ++result.attempts;
+      int used = pack_at(charts, sizes, order, s, padding_px, grid, placements);
+      if (used <= grid.rows) {
+        found = s;
+        lo = std::max(lo, s);
+        best_placements = placements;
+      } else {
+        hi = std::min(hi, s);
+        // A second order only matters if it beats the first one.
+        if (lo_known > 0 && s <= lo_known * 1.0051) break;
+      }
+      double guess = used == INT_MAX ? 0.5 * s : s * std::sqrt(static_cast<double>(grid.rows) / used);
+      if (used > grid.rows) guess *= 0.995;
+      // Stay strictly inside the bracket; fall back to its middle.
+      if (!(guess > found && guess < hi)) guess = found > 0 ? std::sqrt(found * hi) : 0.5 * s;
+      if (found == 0 && guess < full * 1e-9) break;
+      s = guess;
     }
-    double guess = used == INT_MAX ? 0.5 * s : s * std::sqrt(static_cast<double>(grid.rows) / used);
-    if (used > grid.rows) guess *= 0.99;
-    // Stay strictly inside the bracket; fall back to its middle.
-    if (!(guess > lo && guess < hi)) guess = lo > 0 ? std::sqrt(lo * hi) : 0.5 * s;
-    if (lo == 0 && guess < full * 1e-9) break;
-    s = guess;
-  }
+  };
+  // Two orders, largest area first and longest side first; the second keeps
+  // its packing only where it fits at a larger scale.
+  std::vector<int> by_area(n);
+  std::iota(by_area.begin(), by_area.end(), 0);
+  std::vector<int> by_side = by_area;
+  std::stable_sort(by_area.begin(), by_area.end(), [&](int a, int b) {
+    return sizes[a].x * sizes[a].y > sizes[b].x * sizes[b].y;
+  });
+  std::stable_sort(by_side.begin(), by_side.end(), [&](int a, int b) {
+    return std::max(sizes[a].x, sizes[a].y) > std::max(sizes[b].x, sizes[b].y);
+  });
+  search(by_area, full * std::sqrt(0.8), 0);
+  if (lo > 0) search(by_side, lo * 1.01, lo);
   if (lo == 0)
     throw Error(ErrorCode::limit_exceeded,
                 "atlas: " + std::to_string(n) + " charts do not fit a " +

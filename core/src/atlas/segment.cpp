@@ -22,8 +22,7 @@ struct Entry {
   bool operator>(const Entry& o) const { return cost > o.cost; }
 };
 
-// Normal misfit plus squared distance in chart radii, weighted so that one
-// radius costs as much as half the budget angle's misfit.
+// Normal misfit plus squared distance in chart radii, times `compactness`.
 double fit_cost(const MeshTopology& t, int f, const ChartProxy& p, double compactness) {
   return norm2(t.face_normal[f] - p.normal) +
          compactness * norm2(t.face_centroid[f] - p.center) * p.inv_radius2;
@@ -129,6 +128,10 @@ Segmentation segment_charts(const MeshTopology& t, const std::vector<char>& seam
                             double max_deviation_deg, Progress& progress) {
   const int nf = static_cast<int>(t.face_area.size());
   const double cos_budget = std::cos(max_deviation_deg * M_PI / 180.0);
+  // One chart radius away costs as much as a face at half the budget's
+  // |n - N|^2 = 2 (1 - cos). Measured on the test shapes: without it tori fall
+  // into long bands; at twice this weight cube faces start to split in two
+  // and the worst utilisation gains only 0.015.
   const double compactness = 0.5 * 2 * (1 - cos_budget);
   std::vector<int> seeds{0};
   std::vector<ChartProxy> proxies{{t.face_normal[0], t.face_centroid[0], 0}};

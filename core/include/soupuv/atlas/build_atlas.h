@@ -56,7 +56,7 @@ struct AtlasOptions {
   // charts are halved and everything is packed again, at most
   // `packing_split_rounds` times (few big charts fill a square badly).
   double packing_split_below = 0.72;
-  int packing_split_rounds = 4;
+  int packing_split_rounds = 2;
   int threads = 0;           // OpenMP threads; 0 = OpenMP's default
 };
 
