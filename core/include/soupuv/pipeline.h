@@ -42,6 +42,9 @@ struct MapOptions {
   proxy::ProxyOptions proxy;
   atlas::AtlasOptions atlas;
   field::ChargeOptions charge;
+  // trace.stop_radius = 0 here means: stop once a line is surely past any
+  // proxy (half diagonal + max(1/4 diagonal, 1.5 x offset) from the box
+  // centre), not the tracer's own far default.
   field::TraceOptions trace;
   transfer::TransferOptions transfer;
 

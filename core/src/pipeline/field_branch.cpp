@@ -173,6 +173,9 @@ FieldBranchResult run_field_branch(const Soup& soup, const std::string& soup_has
   // whose side disagrees with their component's (§12.4).
   auto t2 = std::chrono::steady_clock::now();
   std::vector<field::TraceSeed> seeds = field::corner_seeds(soup);
+  std::vector<uint32_t> seed_of_corner(3 * soup.triangles.size(), UINT32_MAX);
+  for (size_t i = 0; i < seeds.size(); ++i)
+    if (seeds[i].corner < seed_of_corner.size()) seed_of_corner[seeds[i].corner] = uint32_t(i);
   field::TraceStats stats;
   field::FieldLines lines = field::trace_field_lines(charges, seeds, trace_options, progress, &stats);
   r.trace = nlohmann::json::object();
@@ -187,8 +190,8 @@ FieldBranchResult run_field_branch(const Soup& soup, const std::string& soup_has
     for (size_t i = 0; i < lines.size(); ++i) {
       uint32_t c = lines.corner[i];
       int want = sides.triangle_side[c / 3];
-      if (transfer::line_side(soup, lines, i) != want) {
-        field::TraceSeed s = seeds[c];
+      if (transfer::line_side(soup, lines, i) != want && seed_of_corner[c] != UINT32_MAX) {
+        field::TraceSeed s = seeds[seed_of_corner[c]];
         s.side = want;
         again.push_back(s);
       }
