@@ -127,8 +127,14 @@ Asset load_gltf_document(json doc, std::span<const uint8_t> bin, bool has_bin, F
   if (asset.skipped_primitives)
     warnings.push_back("skipped " + std::to_string(asset.skipped_primitives) + " points/lines primitive(s)");
 
+  // Soup indices are 32-bit and vertices are not shared across instances.
+  if (3 * total > UINT32_MAX)
+    throw Error(ErrorCode::limit_exceeded, std::to_string(total) + " triangles exceed 32-bit vertex indexing");
   asset.soup.positions.reserve(size_t(3 * total));
+  asset.local_positions.reserve(size_t(3 * total));
   asset.soup.triangles.reserve(size_t(total));
+  asset.soup.origins.reserve(size_t(total));
+  asset.triangle_instance.reserve(size_t(total));
   for (uint32_t i = 0; i < asset.instances.size(); ++i) {
     const auto& prims = meshes[asset.instances[i].mesh];
     for (size_t p = 0; p < prims.size(); ++p)

@@ -120,6 +120,8 @@ PrimitiveGeometry read_primitive(const nlohmann::json& doc, BufferTable& buffers
       indices.resize(out.positions.size());
       for (size_t i = 0; i < indices.size(); ++i) indices[i] = uint32_t(i);
     }
+    if (indices.size() > UINT32_MAX)
+      throw Error(ErrorCode::limit_exceeded, where + ": more than 2^32 indices");
     uint64_t n = triangles_for_mode(mode, indices.size());
     if (n > max_triangles)
       throw Error(ErrorCode::limit_exceeded, where + ": " + std::to_string(n) + " triangles exceed the limit of " +
