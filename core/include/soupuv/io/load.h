@@ -26,7 +26,10 @@ struct LoadOptions {
 };
 
 // Loads a file; the format is sniffed from the content (GLB magic, '{' for
-// glTF JSON, "DRACO" for raw Draco), not from the extension.
+// glTF JSON, "DRACO" for raw Draco), not from the extension. With
+// allow_external_uris and an empty base_dir, the file's own directory is the
+// base directory (the CLI case); relative URIs may not leave it ('..',
+// absolute paths, schemes and symlinks leading out are refused).
 Asset load_file(const std::string& path, const LoadOptions& options = {});
 
 // Loads from memory; external URIs are resolved against options.base_dir only
