@@ -86,6 +86,13 @@ quality::UvMetrics measure(const Soup& soup, const std::vector<std::array<Vec2, 
   return m;
 }
 
+nlohmann::json uv_json(const quality::UvMetrics& m, const Soup& soup, const MapOptions& options) {
+  nlohmann::json j = quality::to_json(m);
+  j["adjacency"] = options.original ? "original" : "weld";
+  if (!options.original) j["weld_tolerance"] = options.weld_tolerance * bounding_box(soup).diagonal();
+  return j;
+}
+
 nlohmann::json soup_json(const Soup& soup, const std::string& hash) {
   Box3 box = bounding_box(soup);
   return {{"triangles", soup.triangles.size()},
@@ -120,7 +127,7 @@ MapResult run_box(const Soup& soup, const MapOptions& options, Progress& progres
   d["soup"] = soup_json(soup, hash);
   d["stages"] = {{"box", {{"seconds", box.seconds}}}, {"metrics", {{"seconds", metric_seconds}}}};
   d["box"] = {{"face_triangles", box.face_triangles}};
-  d["uv"] = quality::to_json(m);
+  d["uv"] = uv_json(m, soup, options);
   d["cache"] = cache_json(nullptr, 0, 0);
   d["warnings"] = soup.warnings;
   d["seconds"] = since(t0);
@@ -249,7 +256,7 @@ MapResult run_map(const Soup& soup, const MapOptions& options, Progress& progres
   d["transfer"] = {{"multi_chart_triangles", tr.multi_chart_triangles},
                    {"corrected_triangles", tr.corrected_triangles},
                    {"cut_triangles_corrected", cut_corrected}};
-  d["uv"] = quality::to_json(m);
+  d["uv"] = uv_json(m, soup, options);
   size_t hits = size_t(field.charges_cached) + size_t(field.lines_cached);
   size_t misses = 2 - hits;
   d["cache"] = cache_json(options.cache, options.cache ? hits : 0, options.cache ? misses : 0);

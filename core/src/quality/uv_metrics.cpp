@@ -137,7 +137,7 @@ std::vector<AdjacentPair> metric_adjacency(const Soup& soup, const Soup* origina
 }
 
 nlohmann::json to_json(const UvMetrics& m) {
-  return {{"coverage", m.coverage},
+  nlohmann::json j = {{"coverage", m.coverage},
           {"flipped", m.flipped},
           {"flipped_fraction", m.flipped_fraction},
           {"stretch_l2", m.stretch_l2},
@@ -147,6 +147,12 @@ nlohmann::json to_json(const UvMetrics& m) {
           {"continuity_1texel", m.continuity_1texel},
           {"islands", m.islands},
           {"uv_per_length", m.uv_per_length}};
+  // Without adjacent pairs continuity would read 1.0 by vacuity: leave it out.
+  if (m.adjacent_pairs == 0) {
+    j.erase("continuity");
+    j.erase("continuity_1texel");
+  }
+  return j;
 }
 
 }  // namespace soupuv::quality

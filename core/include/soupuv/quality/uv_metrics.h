@@ -53,6 +53,7 @@ std::vector<AdjacentPair> metric_adjacency(const Soup& soup, const Soup* origina
                                            double weld_tolerance);
 
 // Diagnostics fields: coverage, flipped_fraction, stretch_l2, continuity, ...
+// (continuity fields are left out when there are no adjacent pairs).
 nlohmann::json to_json(const UvMetrics& m);
 
 }  // namespace soupuv::quality
