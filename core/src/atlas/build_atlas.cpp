@@ -5,6 +5,7 @@
 
 #include <chrono>
 #include <cmath>
+#include <ctime>
 
 #include <omp.h>
 
@@ -45,6 +46,8 @@ nlohmann::json AtlasResult::diagnostics() const {
           {"padding_px", atlas.padding_px},
           {"uv_per_length", atlas.uv_per_length},
           {"seconds", s.seconds},
+          {"cpu_seconds", s.cpu_seconds},
+          {"pack_attempts", s.pack_attempts},
           {"seconds_segment", s.seconds_segment},
           {"seconds_parameterize", s.seconds_parameterize},
           {"seconds_pack", s.seconds_pack},
@@ -53,6 +56,7 @@ nlohmann::json AtlasResult::diagnostics() const {
 
 AtlasResult build_atlas(const TriMesh& mesh, const AtlasOptions& options, Progress& progress) {
   const auto t0 = Clock::now();
+  const std::clock_t cpu0 = std::clock();
   if (options.texture_size < 16 || options.texture_size > 65536)
     throw Error(ErrorCode::invalid_input, "atlas: texture_size must be in [16, 65536]");
   if (!(options.padding_px >= 0) || options.padding_px > options.texture_size / 4.0)
@@ -143,8 +147,9 @@ AtlasResult build_atlas(const TriMesh& mesh, const AtlasOptions& options, Progre
     progress.update("atlas.pack", round / (options.packing_split_rounds + 1.0));
     std::vector<FlatChart> trial = done;
     std::vector<PackChart> pack_input;
-    for (FlatChart& c : trial) pack_input.push_back({&c.uv, &c.mesh.tri});
+    for (FlatChart& c : trial) pack_input.push_back({&c.uv, &c.mesh.tri, &c.mesh.boundary});
     PackResult p = pack_charts(pack_input, options.texture_size, options.padding_px);
+    stats.pack_attempts += p.attempts;
     if (p.utilization > packed.utilization) {
       packed = p;
       best_charts = std::move(trial);
@@ -208,6 +213,7 @@ AtlasResult build_atlas(const TriMesh& mesh, const AtlasOptions& options, Progre
   stats.overlap = m.overlap;
   stats.utilization = m.utilization;
   stats.seconds = since(t0);
+  stats.cpu_seconds = static_cast<double>(std::clock() - cpu0) / CLOCKS_PER_SEC;
   progress.update("atlas.measure", 1);
   return result;
 }

@@ -60,41 +60,38 @@ struct Profile {
   std::vector<double> bottom, top;
 };
 
-Profile profile(const std::vector<Vec2>& uv, const std::vector<std::array<int, 3>>& tri, int r,
-                Vec2 size, double scale, double half, double column_width) {
+Profile profile(const std::vector<Vec2>& uv, const std::vector<int>& outline, int r, Vec2 size,
+                double scale, double half, double column_width) {
   // The exact y-range is first taken in one-texel strips, then each column
-  // takes the strips within `half` of it.
+  // takes the strips within `half` of it. A disk's extremes in a strip lie on
+  // its boundary, so the outline's segments suffice.
   const double strip = std::min(1.0, column_width);
   Vec2 turned_size = (r % 2) ? Vec2{size.y, size.x} : size;
   const double width = turned_size.x * scale + 2 * half;
   const int strips = static_cast<int>(std::ceil(width / strip)) + 1;
   const int columns = static_cast<int>(std::ceil(width / column_width)) + 1;
   Profile raw{std::vector<double>(strips, INFINITY), std::vector<double>(strips, -INFINITY)};
-  for (const auto& t : tri) {
-    Vec2 p[3];
-    for (int k = 0; k < 3; ++k) {
-      Vec2 q = turn(uv[t[k]], r, size);
-      p[k] = {q.x * scale + half, q.y * scale + half};
-    }
-    double x0 = std::min({p[0].x, p[1].x, p[2].x}), x1 = std::max({p[0].x, p[1].x, p[2].x});
-    int c0 = std::max(0, static_cast<int>(x0 / strip));
-    int c1 = std::min(strips - 1, static_cast<int>(x1 / strip));
+  auto texel = [&](int v) {
+    Vec2 q = turn(uv[v], r, size);
+    return Vec2{q.x * scale + half, q.y * scale + half};
+  };
+  const size_t m = outline.size();
+  for (size_t i = 0; i < m; ++i) {
+    Vec2 a = texel(outline[i]), b = texel(outline[(i + 1) % m]);
+    int c0 = std::max(0, static_cast<int>(std::min(a.x, b.x) / strip));
+    int c1 = std::min(strips - 1, static_cast<int>(std::max(a.x, b.x) / strip));
     for (int c = c0; c <= c1; ++c) {
-      // y-range of the triangle inside the strip: vertices within it and the
-      // edges' crossings of its two sides.
+      // y-range of the segment inside the strip: its start if within, and its
+      // crossings of the strip's two sides.
       double lo_x = c * strip, hi_x = lo_x + strip;
-      double y_lo = INFINITY, y_hi = -INFINITY;
-      auto take = [&](double y) { y_lo = std::min(y_lo, y); y_hi = std::max(y_hi, y); };
-      for (int k = 0; k < 3; ++k) {
-        Vec2 a = p[k], b = p[(k + 1) % 3];
-        if (a.x >= lo_x && a.x <= hi_x) take(a.y);
-        for (double x : {lo_x, hi_x})
-          if ((a.x - x) * (b.x - x) < 0) take(a.y + (b.y - a.y) * (x - a.x) / (b.x - a.x));
-      }
-      if (y_lo <= y_hi) {
-        raw.bottom[c] = std::min(raw.bottom[c], y_lo);
-        raw.top[c] = std::max(raw.top[c], y_hi);
-      }
+      auto take = [&](double y) {
+        raw.bottom[c] = std::min(raw.bottom[c], y);
+        raw.top[c] = std::max(raw.top[c], y);
+      };
+      if (a.x >= lo_x && a.x <= hi_x) take(a.y);
+      if (b.x >= lo_x && b.x <= hi_x) take(b.y);
+      for (double x : {lo_x, hi_x})
+        if ((a.x - x) * (b.x - x) < 0) take(a.y + (b.y - a.y) * (x - a.x) / (b.x - a.x));
     }
   }
   Profile out{std::vector<double>(columns, INFINITY), std::vector<double>(columns, -INFINITY)};
@@ -221,7 +218,7 @@ int pack_at(const std::vector<PackChart>& charts, const std::vector<Vec2>& sizes
     Placement best[4];
     CellShape shape[4];
     for (int r = 0; r < 4; ++r) {
-      shape[r] = cell_shape(profile(*charts[ci].uv, *charts[ci].triangles, r, sizes[ci], scale,
+      shape[r] = cell_shape(profile(*charts[ci].uv, *charts[ci].outline, r, sizes[ci], scale,
                                     half, grid.column_width),
                             grid.row_height);
       best_top[r] = INT_MAX;

@@ -1,7 +1,8 @@
 // Packing of flattened charts into the unit square.
 //
 // Inputs:  per chart its UVs (in units of 3D length: one density for all) and
-//          triangles, the texture size and the padding in texels.
+//          triangles and boundary loop, the texture size and the padding in
+//          texels.
 // Output:  the UVs rewritten in [0,1]^2 (every chart scaled by the same
 //          uv_per_length, rotated and translated), with at least padding_px
 //          texels between any two charts.
@@ -27,12 +28,13 @@ namespace soupuv::atlas {
 struct PackChart {
   std::vector<Vec2>* uv;
   const std::vector<std::array<int, 3>>* triangles;
+  const std::vector<int>* outline;  // the boundary loop (charts are disks)
 };
 
 struct PackResult {
   double uv_per_length = 0;
   double utilization = 0;  // UV area / 1
-  int attempts = 0;        // packings tried by the bisection
+  int attempts = 0;        // packings tried by the scale search
 };
 
 // Minimal-area bounding rectangle of a point set (one side is parallel to a

@@ -73,7 +73,9 @@ struct AtlasDiagnostics {
   int splits = 0;            // charts split for topology, flips, overlap or stretch
   int packing_splits = 0;    // flattened charts halved to pack tighter
   int seam_edges = 0;        // mesh edges forced to be seams by the hints
-  double seconds = 0;
+  double seconds = 0;         // wall clock
+  double cpu_seconds = 0;     // process CPU time (all threads) during the build
+  int pack_attempts = 0;      // packings tried by the scale searches
   double seconds_segment = 0, seconds_parameterize = 0, seconds_pack = 0;
   std::vector<std::string> warnings;
 };
