@@ -22,14 +22,9 @@ nlohmann::json uv_diagnostics(const Soup& soup, const std::vector<Vec2>& uvs) {
     corners[t] = {uvs[t * 3], uvs[t * 3 + 1], uvs[t * 3 + 2]};
   double tolerance = 1e-6 * bounding_box(soup).diagonal();
   auto adjacency = quality::metric_adjacency(soup, nullptr, tolerance);
-  quality::UvMetrics metrics = quality::uv_metrics(soup, corners, adjacency);
-  nlohmann::json uv = quality::to_json(metrics);
+  // to_json leaves continuity out when there are no adjacent pairs.
+  nlohmann::json uv = quality::to_json(quality::uv_metrics(soup, corners, adjacency));
   uv["weld_tolerance"] = tolerance;
-  // Without adjacent pairs continuity would read 1.0 by vacuity: leave it out.
-  if (metrics.adjacent_pairs == 0) {
-    uv.erase("continuity");
-    uv.erase("continuity_1texel");
-  }
   return uv;
 }
 
