@@ -372,7 +372,12 @@ void register_routes(httplib::Server& http, ServerContext& ctx) {
     return true;
   };
   http.set_expect_100_continue_handler([guard](const httplib::Request& req, httplib::Response& res) {
-    return guard(req, res) ? 100 : res.status;
+    if (guard(req, res)) return 100;
+    // 0.11.4 writes this early answer without Content-Length and keeps the
+    // connection open, so a client would wait for the close while uploading
+    // its body; with the length it reads the answer and stops sending.
+    res.set_header("Content-Length", std::to_string(res.body.size()));
+    return res.status;
   });
   http.set_pre_routing_handler([&ctx, guard](const httplib::Request& req, httplib::Response& res) {
     const std::string origin = req.get_header_value("Origin");

@@ -69,6 +69,8 @@ TEST_F(Hardening, ExpectContinueGetsTheFinalAnswerFirst) {
   std::string r = post("Content-Type: model/gltf-binary\r\nContent-Length: 1073741824\r\nExpect: 100-continue\r\n");
   EXPECT_EQ(r.find("100 Continue"), std::string::npos) << r;
   expect_refused(r, 413);
+  // Without a length the client would wait for a close while sending its body.
+  EXPECT_NE(r.find("Content-Length: "), std::string::npos) << r;
   std::string bad_type = post("Content-Type: text/csv\r\nContent-Length: 10\r\nExpect: 100-continue\r\n");
   expect_refused(bad_type, 415);
   // An acceptable request is told to go on.
