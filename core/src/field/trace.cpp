@@ -11,11 +11,13 @@
 #include <chrono>
 #include <cmath>
 #include <limits>
+#include <memory>
 
 #include "soupuv/errors.h"
 #include "soupuv/field/field.h"
 #include "soupuv/field/fmm.h"
 #include "soupuv/field/sources.h"
+#include "soupuv/field/triangle_integrals.h"
 
 namespace soupuv::field {
 
@@ -24,7 +26,9 @@ std::vector<TraceSeed> corner_seeds(const Soup& soup) {
   seeds.reserve(soup.triangles.size() * 3);
   for (size_t t = 0; t < soup.triangles.size(); ++t) {
     Vec3 n = triangle_normal(soup, t);
-    for (int k = 0; k < 3; ++k) seeds.push_back({soup.corner(t, k), n, 0, static_cast<uint32_t>(t * 3 + k)});
+    Vec3 g = (soup.corner(t, 0) + soup.corner(t, 1) + soup.corner(t, 2)) / 3.0;
+    for (int k = 0; k < 3; ++k)
+      seeds.push_back({soup.corner(t, k), n, 0, static_cast<uint32_t>(t * 3 + k), g, true});
   }
   return seeds;
 }
@@ -56,8 +60,29 @@ FieldLines trace_field_lines(const ChargeResult& charges, const std::vector<Trac
   fo.order = options.fmm_order;
   fo.theta = options.fmm_theta;
   fo.threads = options.threads;
-  Fmm fmm(src, fo, region);
-  fmm.set_charges(charges.charges);
+  std::unique_ptr<Fmm> fmm;
+  if (!options.direct) {
+    fmm = std::make_unique<Fmm>(src, fo, region);
+    fmm->set_charges(charges.charges);
+  }
+  // The evaluator a step calls: the FMM, or direct summation over every source.
+  auto field_at = [&](Vec3 x, Vec3* E, double* nearest) {
+    if (!options.direct) {
+      fmm->evaluate(x, nullptr, E, nearest);
+      return;
+    }
+    Vec3 e{0, 0, 0};
+    double best = std::numeric_limits<double>::infinity();
+    for (size_t j = 0; j < src.size(); ++j) {
+      Vec3 ej{0, 0, 0};
+      unit_potential_field(src, j, x, nullptr, &ej);
+      e += charges.charges[j] * ej;
+      if (nearest && src.is_near(j, x))
+        best = std::min(best, point_triangle_distance(src.a[j], src.b[j], src.c[j], x));
+    }
+    *E += e;
+    if (nearest) *nearest = best;
+  };
   double build_seconds = std::chrono::duration<double>(Clock::now() - t0).count();
   progress.update("trace", 0.05);
 
@@ -80,8 +105,10 @@ FieldLines trace_field_lines(const ChargeResult& charges, const std::vector<Trac
     int side = seed.side;
     Vec3 E_plus, E_minus;
     if (side == 0) {
-      fmm.evaluate(seed.position + eps * nrm, nullptr, &E_plus);
-      fmm.evaluate(seed.position - eps * nrm, nullptr, &E_minus);
+      Vec3 base = seed.position;
+      if (seed.has_interior) base = base + 0.05 * (seed.interior - seed.position);
+      field_at(base + eps * nrm, &E_plus, nullptr);
+      field_at(base - eps * nrm, &E_minus, nullptr);
       evaluations += 2;
       side = norm2(E_plus) >= norm2(E_minus) ? 1 : -1;
     }
@@ -93,18 +120,18 @@ FieldLines trace_field_lines(const ChargeResult& charges, const std::vector<Trac
     for (int k = 0; k < options.max_steps; ++k) {
       Vec3 E{0, 0, 0};
       double nearest = std::numeric_limits<double>::infinity();
-      fmm.evaluate(x, nullptr, &E, &nearest);
+      field_at(x, &E, &nearest);
       ++evaluations;
       double e = norm(E);
       if (!(e > stalled_field)) {
         end = LineEnd::stalled;
         break;
       }
-      double h = std::min(step, std::max(eps, 0.5 * nearest));
+      double h = options.adaptive_step ? std::min(step, std::max(eps, 0.5 * nearest)) : step;
       if (midpoint) {
         Vec3 xm = x + (0.5 * h / e) * E;
         Vec3 Em{0, 0, 0};
-        fmm.evaluate(xm, nullptr, &Em);
+        field_at(xm, &Em, nullptr);
         ++evaluations;
         double em = norm(Em);
         if (!(em > stalled_field)) {

@@ -89,6 +89,11 @@ struct TraceSeed {
   Vec3 normal;
   int side = 0;          // +1 along normal, -1 against, 0: the side where |E| is larger
   uint32_t corner = 0;   // triangle * 3 + k, copied into FieldLines::corner
+  // A point inside the seed's triangle (its centroid). The side test probes
+  // slightly towards it: at a sharp edge, v - eps * n lies on the
+  // neighbouring face's plane and would look like the outside.
+  Vec3 interior;
+  bool has_interior = false;
 };
 
 // The FMM order solve_charges uses for `tolerance` when fmm_order is 0.
@@ -108,6 +113,8 @@ struct TraceOptions {
   int fmm_order = 6;         // the tracer's own FMM accuracy (field rel. error ~1e-5)
   double fmm_theta = 0.5;
   bool keep_points = true;   // false: keep only the first and last point of each line
+  bool adaptive_step = true; // shorten steps near the surface (off: fixed steps, for integrator studies)
+  bool direct = false;       // evaluate the field by O(n) direct summation (the FMM's slow twin)
 };
 
 struct TraceStats {
