@@ -2,7 +2,10 @@
 // surface, cube, cylinder, a CAD-like drilled block) at growing sizes; one
 // JSON line per mesh with the issue-5 figures (charts, stretch, flips,
 // overlap, utilisation, seconds), then a summary with the worst values.
+// Without --quick also 50k-100k meshes and the proxies (build_proxy with its
+// defaults) of the shared sample soups spot, fandisk and suzanne.
 // --quick: small sizes only (about a minute on a busy 2-core machine).
+// --only=TEXT: just the meshes whose name contains TEXT.
 #include <omp.h>
 
 #include <algorithm>
@@ -12,6 +15,8 @@
 #include "bench_registry.h"
 #include "soupuv/atlas/build_atlas.h"
 #include "soupuv/atlas/test_meshes.h"
+#include "soupuv/io/load.h"
+#include "soupuv/proxy/proxy.h"
 #include "soupuv/shapes.h"
 
 namespace {
@@ -40,12 +45,30 @@ int run_atlas(const bench::Args& args) {
     cases.push_back({"torus_102k", [] { return shapes::torus_with(1.0, 0.3, 102400); }});
     cases.push_back({"genus3_100k", [] { return atlas::test_meshes::fused_tori(3, 100000); }});
     cases.push_back({"drilled_block_100k", [] { return atlas::test_meshes::drilled_block(100000); }});
+    for (std::string name : {"spot", "fandisk", "suzanne"})
+      cases.push_back({name + "_proxy", [name] {
+                         io::Asset asset = io::load_file(std::string(SOUPUV_SHARED_DATA) +
+                                                         "/soups/" + name + "-soup.glb");
+                         return proxy::build_proxy(asset.soup, {}).proxy.mesh;
+                       }});
   }
+  // --only=TEXT keeps the meshes whose name contains TEXT.
+  for (const std::string& a : args.rest)
+    if (a.rfind("--only=", 0) == 0) {
+      std::string text = a.substr(7);
+      std::erase_if(cases, [&](const Case& c) { return c.name.find(text) == std::string::npos; });
+    }
   double worst_l2 = 0, worst_util = 1, worst_seconds = 0;
   int total_flipped = 0;
   double worst_overlap = 0;
   for (const Case& c : cases) {
-    TriMesh mesh = c.make();
+    TriMesh mesh;
+    try {
+      mesh = c.make();
+    } catch (const std::exception& e) {
+      bench::emit({{"suite", "atlas"}, {"mesh", c.name}, {"error", e.what()}});
+      continue;
+    }
     std::cerr << "atlas: " << c.name << " (" << mesh.faces.size() << " faces)\n";
     atlas::AtlasResult r = atlas::build_atlas(mesh, {}, Progress::none());
     nlohmann::json row = {{"suite", "atlas"},
