@@ -188,6 +188,7 @@ nlohmann::json ProxyResult::diagnostics() const {
       {"seconds_grid", seconds_grid},
       {"seconds_extract", seconds_extract},
       {"seconds_remesh", seconds_remesh},
+      {"seconds_decimate", seconds_decimate},
       {"seconds_smooth", seconds_smooth},
       {"seconds_checks", seconds_checks},
       {"warnings", warnings},
@@ -221,6 +222,12 @@ ProxyResult build_proxy(const Soup& soup, const ProxyOptions& options, Progress&
   std::optional<ProxyResult> best;
   for (size_t rung = 0; rung < offsets.size(); ++rung) {
     const double offset = offsets[rung];
+    const bool last = rung + 1 == offsets.size();
+    // A rung the resolution cap cannot sample (cell > o/2) gives a level set
+    // that may cut into the soup: automatic skips it.
+    if (options.offset_mode == OffsetMode::automatic && options.resolution == 0 && !last &&
+        nyquist_resolution(longest, offset) > options.max_resolution)
+      continue;
     ProxyResult r;
     r.offset = offset;
     r.offset_fraction = offset / diagonal;
@@ -240,7 +247,6 @@ ProxyResult build_proxy(const Soup& soup, const ProxyOptions& options, Progress&
     r.inner_components = ex.inner;
     r.seconds_grid = ex.seconds_grid;
     r.seconds_extract = ex.seconds_extract;
-    const bool last = rung + 1 == offsets.size();
     // The ladder wants one outer component; anything else: next rung.
     if (options.offset_mode == OffsetMode::automatic && ex.outer != 1 && !last) {
       best = std::move(r);
@@ -254,6 +260,7 @@ ProxyResult build_proxy(const Soup& soup, const ProxyOptions& options, Progress&
       double target = options.target_edge_length > 0 ? options.target_edge_length : offset;
       // Collapse first (cheap per edge), then remesh the few that remain.
       mesh = cgal::collapse_short_edges(mesh, 0.6 * target);
+      r.seconds_decimate = since(t0);
       progress.update("proxy: remeshing", 0.5);
       mesh = cgal::isotropic_remesh(mesh, target, options.remesh_iterations);
     }
@@ -284,13 +291,13 @@ ProxyResult build_proxy(const Soup& soup, const ProxyOptions& options, Progress&
     r.proxy.offset = offset;
     r.proxy.resolution = r.resolution;
 
-    bool feasible = r.outer_components == 1 && r.encloses;
+    bool feasible = r.outer_components == 1 && acceptable(r);
     best = std::move(r);
     if (options.offset_mode != OffsetMode::automatic || feasible) break;
   }
 
   ProxyResult result = std::move(*best);
-  if (options.offset_mode == OffsetMode::automatic && !(result.outer_components == 1 && result.encloses))
+  if (options.offset_mode == OffsetMode::automatic && !(result.outer_components == 1 && acceptable(result)))
     result.warnings.push_back("automatic offset: no rung of the ladder gave one enclosing outer component");
   if (result.outer_components > 1)
     result.warnings.push_back(std::to_string(result.outer_components) +

@@ -5,6 +5,7 @@
 
 #include "proxy_expect.h"
 #include "soupuv/errors.h"
+#include "soupuv/proxy/offset_policy.h"
 #include "soupuv/shapes.h"
 
 namespace soupuv::proxy {
@@ -95,16 +96,17 @@ TEST(BuildProxy, FarApartPartsGiveTwoOuterComponentsAndAWarning) {
 }
 
 TEST(BuildProxy, AutomaticPicksTheTightestSingleShell) {
-  // Two spheres 0.1 apart: rungs below a gap of 2o = 0.1 give two shells, so
-  // automatic must climb the ladder until they merge.
+  // Two spheres 0.3 apart: rungs whose 2o is below the gap give two shells,
+  // so automatic must climb the ladder until they merge.
   TriMesh a = shapes::icosphere(1.0, 2), b = shapes::icosphere(1.0, 2);
-  shapes::translate(b, {2.1, 0, 0});
+  shapes::translate(b, {2.3, 0, 0});
   Soup soup = shapes::merge(shapes::to_soup(a), shapes::to_soup(b));
   ProxyOptions o;
   o.offset_mode = OffsetMode::automatic;
+  o.max_resolution = 96;  // keeps the tight rungs cheap; still a valid level set
   ProxyResult r = build_proxy(soup, o);
   expect_valid_proxy(r, soup, 1);
-  EXPECT_GT(r.offset, 0.03);
+  EXPECT_GT(r.offset, 0.14);
   ASSERT_GE(r.ladder_tried.size(), 2u);  // the tight rungs were tried and refused
   double diag = bounding_box(soup).diagonal();
   EXPECT_NEAR(r.offset, r.ladder_tried.back() * diag, 1e-12);
@@ -124,17 +126,26 @@ TEST(BuildProxy, RawLevelSetWithoutRemeshOrSmoothingIsValid) {
 }
 
 TEST(BuildProxy, ResolutionFollowsTheSamplingArgument) {
-  // Table 1: cylinder r = 1, h = 2; a 1 % offset (of the extent 2) needs 200 samples.
-  Soup soup = shapes::to_soup(shapes::cylinder(1.0, 2.0, 64, 8, 8));
+  // Table 1: cylinder r = 1, h = 2 (longest extent 2); offsets of 1, 2, 3, 5 %
+  // of that extent need 200, 100, 67, 40 samples (cell = o / 2).
   ProxyOptions o;
-  o.offset_mode = OffsetMode::absolute;
-  o.offset = 0.02 * 2.0 / 2.0 * 1.0;  // 1 % of the extent 2 = 0.02
-  o.remesh = false;
-  o.smoothing_iterations = 0;
-  o.check_self_intersections = false;
-  ProxyResult r = build_proxy(soup, o);
-  EXPECT_EQ(r.resolution, 200);
-  EXPECT_TRUE(r.closed && r.manifold);
+  o.max_resolution = 4096;
+  EXPECT_EQ(sampling_resolution(o, 2.0, 0.01 * 2), 200);
+  EXPECT_EQ(sampling_resolution(o, 2.0, 0.02 * 2), 100);
+  EXPECT_EQ(sampling_resolution(o, 2.0, 0.03 * 2), 67);
+  EXPECT_EQ(sampling_resolution(o, 2.0, 0.05 * 2), 40);
+  o.max_resolution = 150;
+  EXPECT_EQ(sampling_resolution(o, 2.0, 0.01 * 2), 150);  // capped
+  o.resolution = 77;
+  EXPECT_EQ(sampling_resolution(o, 2.0, 0.01 * 2), 77);   // given
+  // And build_proxy uses it.
+  Soup soup = shapes::to_soup(shapes::cylinder(1.0, 2.0, 32, 4, 4));
+  ProxyOptions b;
+  b.offset_mode = OffsetMode::absolute;
+  b.offset = 0.1 * 2;
+  ProxyResult r = build_proxy(soup, b);
+  EXPECT_EQ(r.resolution, 20);
+  expect_valid_proxy(r, soup, 1);
 }
 
 TEST(BuildProxy, ErrorsAndCancel) {

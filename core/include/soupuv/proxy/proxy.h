@@ -85,6 +85,7 @@ struct ProxyResult {
   double seconds = 0;
   double seconds_grid = 0, seconds_extract = 0, seconds_remesh = 0,
          seconds_smooth = 0, seconds_checks = 0;
+  double seconds_decimate = 0;   // the short-edge collapse part of seconds_remesh
   std::vector<std::string> warnings;
 
   bool ok() const {
