@@ -68,11 +68,16 @@ Orientation consistent_orientation(const Soup& soup,
 
 int line_side(const Soup& soup, const field::FieldLines& lines, size_t line) {
   uint32_t b = lines.offsets[line], e = lines.offsets[line + 1];
-  if (b == e) return 0;
   uint32_t c = lines.corner[line];
+  Vec3 v = soup.corner(c / 3, c % 3);
   Vec3 n = triangle_normal(soup, c / 3);
-  double s = dot(lines.points[b] - soup.corner(c / 3, c % 3), n);
-  return s > 0 ? 1 : (s < 0 ? -1 : 0);
+  // The first stored point may be the corner itself; the first one that has
+  // left it tells the side.
+  for (uint32_t j = b; j < e; ++j) {
+    double s = dot(lines.points[j] - v, n);
+    if (s != 0) return s > 0 ? 1 : -1;
+  }
+  return 0;
 }
 
 SideChoice component_sides(const Soup& soup, const Orientation& orientation,

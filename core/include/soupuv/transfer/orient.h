@@ -41,8 +41,8 @@ Orientation consistent_orientation(const Soup& soup,
                                    const std::vector<quality::AdjacentPair>& adjacency);
 
 // Side (+1 / -1) a field line left its corner on, relative to the triangle's
-// input-winding normal: the sign of (first point - corner) . normal; 0 when
-// the line has no points or starts on the plane.
+// input-winding normal: the sign of (p - corner) . normal for the first line
+// point p off the triangle's plane; 0 when there is none.
 int line_side(const Soup& soup, const field::FieldLines& lines, size_t line);
 
 struct SideChoice {
