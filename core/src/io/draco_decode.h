@@ -7,7 +7,13 @@
 // Output: positions (one per Draco point, float values as double) and
 //         triangles indexing them. Errors: invalid_input (undecodable, no
 //         POSITION, indices out of range), no_triangles (a point cloud),
-//         limit_exceeded (too many faces).
+//         limit_exceeded (too many faces, or the decoder's CPU budget used up).
+//
+// Draco 1.5.5 (Debian) has decode loops bounded only by counts read from the
+// stream, so a tiny hostile payload can spin for tens of seconds. The decoder
+// therefore runs in a forked child under RLIMIT_CPU (2 s + 1 s per 50 kB of
+// payload) and sends the mesh back through a pipe; the parent checks the
+// answer again. POSIX-only; the caller's process must tolerate fork().
 #pragma once
 
 #include <cstdint>
