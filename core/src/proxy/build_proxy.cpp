@@ -234,10 +234,11 @@ ProxyResult build_proxy(const Soup& soup, const ProxyOptions& options, Progress&
     r.resolution = sampling_resolution(options, longest, offset);
     if (options.offset_mode == OffsetMode::automatic) r.ladder_tried.push_back(r.offset_fraction);
     if (best) r.ladder_tried.insert(r.ladder_tried.begin(), best->ladder_tried.begin(), best->ladder_tried.end());
-    if (options.resolution == 0 && r.resolution < nyquist_resolution(longest, offset))
-      r.warnings.push_back("resolution capped at " + std::to_string(r.resolution) +
-                           " below the sampling resolution " +
-                           std::to_string(nyquist_resolution(longest, offset)));
+    if (r.resolution < nyquist_resolution(longest, offset))
+      r.warnings.push_back("resolution " + std::to_string(r.resolution) +
+                           " is below the sampling resolution " +
+                           std::to_string(nyquist_resolution(longest, offset)) +
+                           " for this offset: the level set may cut into the soup");
 
     Extraction ex = extract(soup_bvh, box, offset, r.resolution, progress);
     r.cell_size = ex.cell;
