@@ -94,7 +94,7 @@ ChartFixResult fix_chart_boundaries(const Soup& soup, const proxy::ProxyMesh& pr
         // takes its UV, which squashes the triangle against the seam. We
         // extend the boundary face's linear map to the landing point instead
         // (continuous across the seam, exact where the proxy is flat), as
-        // long as that stays within a face size of the boundary.
+        // long as that stays within four face sizes of the boundary.
         const Vec3 p = landing[3 * t + j].point;
         land[j] = bvh_of(chart).closest_point(p);
         uv[j] = atlas_uv(atlas, land[j]);
@@ -102,7 +102,7 @@ ChartFixResult fix_chart_boundaries(const Soup& soup, const proxy::ProxyMesh& pr
         double size = std::max({norm(mesh.vertices[f[1]] - mesh.vertices[f[0]]),
                                 norm(mesh.vertices[f[2]] - mesh.vertices[f[1]]),
                                 norm(mesh.vertices[f[0]] - mesh.vertices[f[2]])});
-        if (norm(p - land[j].point) <= size) {
+        if (norm(p - land[j].point) <= 4 * size) {
           SurfacePoint extended = land[j];
           extended.bary = plane_barycentric(mesh, land[j].face, p);
           uv[j] = atlas_uv(atlas, extended);

@@ -7,7 +7,7 @@
 //         that chart; the chart whose UV triangle area, at the atlas's global
 //         texel scale, differs least from the 3D area wins. Unlike the paper,
 //         a moved corner takes the UV of the closest boundary face's linear
-//         map extended to its landing point (when within one face size), not
+//         map extended to its landing point (within four face sizes), not
 //         the boundary point's own UV: the triangle keeps its shape instead
 //         of being squashed against the seam.
 // Cost  : one BVH per chart, built once: O(n log n); O(log n) per moved corner.
