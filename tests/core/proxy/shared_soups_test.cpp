@@ -30,3 +30,30 @@ INSTANTIATE_TEST_SUITE_P(Soups, SharedSoup,
 
 }  // namespace
 }  // namespace soupuv::proxy
+
+namespace soupuv::proxy {
+namespace {
+
+// The other sample meshes: closed, open (a single plane), skinned, Draco.
+class SharedMesh : public ::testing::TestWithParam<const char*> {};
+
+TEST_P(SharedMesh, AutomaticProxyIsOneEnclosingShell) {
+  std::string path = std::string(SOUPUV_SHARED_DATA) + "/" + GetParam();
+  ASSERT_TRUE(std::filesystem::exists(path)) << path;
+  io::LoadOptions load;
+  load.allow_external_uris = true;
+  load.base_dir = std::filesystem::path(path).parent_path().string();
+  Soup soup = io::load_file(path, load).soup;
+  ProxyOptions o;
+  o.max_resolution = 64;
+  ProxyResult r = build_proxy(soup, o);
+  expect_valid_proxy(r, soup, 1);
+}
+
+INSTANTIATE_TEST_SUITE_P(Meshes, SharedMesh,
+                         ::testing::Values("gltf/Box.glb", "gltf/Duck.glb", "gltf/CesiumMan.glb",
+                                           "gltf/TwoSidedPlane/TwoSidedPlane.gltf",
+                                           "drc/bunny_gltf.drc"));
+
+}  // namespace
+}  // namespace soupuv::proxy
