@@ -4,8 +4,9 @@
 # QUERY is extra job parameters (default texture_size=64: the load is on the
 # server, not on PNG encoding).
 # Submits N jobs from C concurrent clients (each retries 429/503 after
-# Retry-After, at most 120 times), polls each to its end, downloads and checks
-# every result, while a prober measures GET /v1/jobs/{id} and /healthz latency.
+# Retry-After, at most 120 times), then polls each accepted job to its end,
+# downloads and checks every result, while a prober measures GET /v1/jobs/{id}
+# and /healthz latency.
 # Prints throughput, latency percentiles, counts by HTTP status, and checks:
 # no 5xx, every 429/503 had Retry-After, no lost or duplicated job.
 # Bounded: stops after -t seconds (default 600) whatever happens.
@@ -26,8 +27,8 @@ deadline=$(( $(date +%s) + limit ))
 export url file type method work deadline query
 export auth_header=${SOUPUV_TOKEN:+"Authorization: Bearer $SOUPUV_TOKEN"}
 
-one_job() {  # $1 = job number; appends to $work/submits, $work/jobs
-  local i=$1 code t id state=lost tries=0 h=()
+submit_one() {  # $1 = job number; appends to $work/submits and $work/ids
+  local i=$1 code t tries=0 h=()
   [ -n "$auth_header" ] && h=(-H "$auth_header")
   while :; do
     tries=$((tries + 1))
@@ -44,29 +45,36 @@ one_job() {  # $1 = job number; appends to $work/submits, $work/jobs
     break
   done
   if [ "$code" = 202 ]; then
-    # The server's JSON is compact; sed is enough and far cheaper than a python per poll.
-    id=$(sed -n 's/.*"id":"\(j[a-z2-7]*\)".*/\1/p' "$work/b.$i")
-    echo "$id" >> "$work/ids"
-    while [ "$(date +%s)" -lt "$deadline" ]; do
-      state=$(curl -sS "${h[@]}" "$url/v1/jobs/$id" | sed -n 's/.*"state":"\([a-z]*\)".*/\1/p')
-      case "$state" in succeeded|failed|canceled) break ;; esac
-      sleep 1  # many clients on few cores: polling must not starve the workers
-    done
-    if [ "$state" = succeeded ]; then
-      curl -sS -f "${h[@]}" -o "$work/r.$i" "$url/v1/jobs/$id/result" && [ "$(head -c 4 "$work/r.$i")" = glTF ] || state=bad-result
-      rm -f "$work/r.$i"
-    fi
+    # The server's JSON is compact; sed is enough and far cheaper than a python per job.
+    echo "$i $(sed -n 's/.*"id":"\(j[a-z2-7]*\)".*/\1/p' "$work/b.$i")" >> "$work/ids"
+  else
+    echo "$i none not-accepted" >> "$work/jobs"
   fi
-  echo "$i ${id:-none} $state $tries" >> "$work/jobs"
 }
-export -f one_job
+export -f submit_one
+
+check_one() {  # $1 = "number id": polls to the end, downloads and checks the GLB
+  local i=${1%% *} id=${1#* } state=lost h=()
+  [ -n "$auth_header" ] && h=(-H "$auth_header")
+  while [ "$(date +%s)" -lt "$deadline" ]; do
+    state=$(curl -sS "${h[@]}" "$url/v1/jobs/$id" | sed -n 's/.*"state":"\([a-z]*\)".*/\1/p')
+    case "$state" in succeeded|failed|canceled) break ;; esac
+    sleep 1  # many clients on few cores: polling must not starve the workers
+  done
+  if [ "$state" = succeeded ]; then
+    curl -sS -f "${h[@]}" -o "$work/r.$i" "$url/v1/jobs/$id/result" && [ "$(head -c 4 "$work/r.$i")" = glTF ] || state=bad-result
+    rm -f "$work/r.$i"
+  fi
+  echo "$i $id $state" >> "$work/jobs"
+}
+export -f check_one
 
 probe() {  # status/health latency while the jobs run: one curl per 20 requests
   # on a kept-alive connection, so process start-up is not in the numbers.
   local h=() urls
   [ -n "$auth_header" ] && h=(-H "$auth_header")
   while [ ! -f "$work/done" ] && [ "$(date +%s)" -lt "$deadline" ]; do
-    id=$(tail -n 1 "$work/ids" 2>/dev/null)
+    id=$(tail -n 1 "$work/ids" 2>/dev/null | cut -d' ' -f2)
     if [ -n "$id" ]; then
       urls=$(for _ in $(seq 10); do printf '%s ' "$url/v1/jobs/$id"; done)
       # shellcheck disable=SC2086
@@ -82,7 +90,10 @@ probe() {  # status/health latency while the jobs run: one curl per 20 requests
 touch "$work/submits" "$work/jobs" "$work/ids" "$work/status" "$work/health"
 probe &
 start=$(date +%s.%N)
-seq 1 "$n" | xargs -P "$c" -I{} bash -c 'one_job {}'
+# Open loop: every client submits as fast as it is let (so the queue fills and
+# 429 + Retry-After happen), then every accepted job is followed to its end.
+seq 1 "$n" | xargs -P "$c" -I{} bash -c 'submit_one {}'
+xargs -P "$c" -I{} bash -c 'check_one "{}"' < "$work/ids"
 end=$(date +%s.%N)
 touch "$work/done"
 wait
@@ -111,7 +122,7 @@ noretry=$(awk '($1 == 429 || $1 == 503) && $3 == "none"' "$work/submits" | wc -l
 [ "$noretry" -eq 0 ] || { echo "CHECK FAILED: $noretry 429/503 without Retry-After"; fail=1; }
 other=$(awk '$1 != 202 && $1 != 429 && $1 != 503' "$work/submits" | wc -l)
 [ "$other" -eq 0 ] || { echo "CHECK FAILED: $other submissions answered neither 202 nor 429/503"; fail=1; }
-dups=$(sort "$work/ids" | uniq -d | wc -l)
+dups=$(cut -d' ' -f2 "$work/ids" | sort | uniq -d | wc -l)
 [ "$dups" -eq 0 ] || { echo "CHECK FAILED: $dups job ids handed out twice"; fail=1; }
 [ "$ok" -eq "$n" ] || { echo "CHECK FAILED: $ok of $n jobs succeeded (lost or failed: see final states)"; fail=1; }
 [ $fail -eq 0 ] && echo "load OK" || exit 1

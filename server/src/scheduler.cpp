@@ -1,6 +1,7 @@
 #include "soupuv/server/scheduler.h"
 
 #include <signal.h>
+#include <unistd.h>
 
 #include <algorithm>
 #include <cctype>
@@ -189,6 +190,16 @@ void Scheduler::run_job(const std::string& id) {
     store_.finish(id, JobState::canceled, std::nullopt, {}, now_seconds());
     metrics_.job_finished("canceled");
     return;
+  }
+  // A worker binary being replaced (upgrade, rebuild) is briefly missing: wait
+  // for it rather than failing the job; after 30 s the job fails with a reason.
+  // (A plain sleep: waiting on cv_ here could swallow an enqueue's notify_one.)
+  for (int i = 0; i < 60 && access(worker_bin_.c_str(), X_OK) != 0; ++i) {
+    {
+      std::lock_guard lock(mu_);
+      if (stopping_) return;
+    }
+    std::this_thread::sleep_for(std::chrono::milliseconds(500));
   }
   const fs::path dir = data_.job(id);
   const fs::path work = dir / "work";
