@@ -1,0 +1,99 @@
+// FMM against direct summation (its slow twin) for several expansion orders:
+// the error must shrink as p grows and be small at the orders we use.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdio>
+#include <random>
+
+#include "soupuv/field/direct.h"
+#include "soupuv/field/fmm.h"
+#include "soupuv/field/taylor.h"
+#include "soupuv/shapes.h"
+
+using namespace soupuv;
+using namespace soupuv::field;
+
+TEST(Taylor, KernelDerivativesMatchFiniteDifferences) {
+  TaylorBasis basis(8);
+  Vec3 R{0.7, -0.4, 1.1};
+  std::vector<double> k(TaylorBasis::size_for(5));
+  basis.kernel(R, 5, k.data());
+  EXPECT_NEAR(k[0], 1 / norm(R), 1e-15);
+  // k_{e_x}(R) = R_x / r^3 and the y-derivative of 1/|x - y| at y = 0 is the same.
+  EXPECT_NEAR(k[1], R.x / std::pow(norm(R), 3), 1e-14);
+  // Moments of one unit charge at s reproduce 1/|x - s| through M2P.
+  Vec3 s{0.1, 0.05, -0.08};
+  std::vector<double> M(basis.size(), 0.0);
+  double q = 1;
+  basis.p2m({0, 0, 0}, &s, &q, 1, M.data());
+  double phi = 0;
+  Vec3 E{0, 0, 0};
+  Vec3 x = R;
+  basis.m2p(M.data(), x, &phi, &E);
+  EXPECT_NEAR(phi, 1 / norm(x - s), 1e-6);
+  Vec3 e_exact = (x - s) / std::pow(norm(x - s), 3);
+  EXPECT_LT(norm(E - e_exact), 1e-5 * norm(e_exact));
+}
+
+namespace {
+struct Case {
+  SourceGeometry src;
+  std::vector<double> q;
+  std::vector<Vec3> targets;
+  std::vector<double> phi;
+  std::vector<Vec3> E;
+};
+
+Case make_case() {
+  Case c;
+  Soup soup = shapes::to_soup(shapes::torus_with(1.0, 0.5, 1800), 1e-3, 3);
+  c.src = make_sources(soup.positions, soup.triangles, 4);
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<double> u(0.5, 1.5), box(-2, 2);
+  for (size_t j = 0; j < c.src.size(); ++j) c.q.push_back(u(rng) * c.src.area[j]);
+  for (size_t j = 0; j < c.src.size(); j += 3) c.targets.push_back(c.src.centroid[j]);
+  for (int i = 0; i < 1000; ++i) c.targets.push_back({box(rng), box(rng), box(rng) * 0.5});
+  direct_sum(c.src, c.q, c.targets, &c.phi, &c.E);
+  return c;
+}
+
+std::pair<double, double> fmm_error(const Case& c, int p, double theta) {
+  Box3 region;
+  region.add({-2, -2, -1});
+  region.add({2, 2, 1});
+  Fmm fmm(c.src, FmmOptions{p, theta, 16, 0}, region);
+  fmm.set_charges(c.q);
+  const FmmStats& st = fmm.stats();
+  std::printf("  cells: source %zu (leaves %zu) target %zu, m2l %zu, near leaf pairs %zu; build %.3fs up %.3fs m2l %.3fs down %.3fs\n",
+              st.source_cells, st.source_leaves, st.target_cells, st.m2l_pairs, st.near_leaf_pairs,
+              st.build_seconds, st.upward_seconds, st.m2l_seconds, st.downward_seconds);
+  double max_phi = 0, max_e = 0, scale_phi = 0, scale_e = 0;
+  for (size_t i = 0; i < c.targets.size(); ++i) {
+    double phi = 0;
+    Vec3 E{0, 0, 0};
+    fmm.evaluate(c.targets[i], &phi, &E);
+    EXPECT_TRUE(std::isfinite(phi) && std::isfinite(E.x)) << "p=" << p << " target " << i << " phi " << phi << " E " << E.x << " leaf " << fmm.locate(c.targets[i]);
+    max_phi = std::max(max_phi, std::fabs(phi - c.phi[i]));
+    max_e = std::max(max_e, norm(E - c.E[i]));
+    scale_phi = std::max(scale_phi, std::fabs(c.phi[i]));
+    scale_e = std::max(scale_e, norm(c.E[i]));
+  }
+  return {max_phi / scale_phi, max_e / scale_e};
+}
+}  // namespace
+
+TEST(Fmm, ErrorShrinksWithOrder) {
+  Case c = make_case();
+  double previous = 1;
+  for (int p : {2, 4, 6, 8}) {
+    auto [ephi, efield] = fmm_error(c, p, 0.5);
+    std::printf("fmm p=%d theta=0.5: max rel potential error %.2e, field %.2e\n", p, ephi, efield);
+    EXPECT_LT(ephi, previous);
+    previous = ephi;
+    if (p == 8) {
+      EXPECT_LT(ephi, 1e-6);
+      EXPECT_LT(efield, 2e-5);
+    }
+  }
+}

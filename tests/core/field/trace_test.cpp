@@ -1,0 +1,90 @@
+// Field lines: radial on a sphere, never through the pipe of Fig. 15, and
+// outward from every vertex of two disjoint closed parts.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdio>
+
+#include "soupuv/field/field.h"
+#include "soupuv/field/triangle_integrals.h"
+#include "soupuv/shapes.h"
+
+using namespace soupuv;
+using namespace soupuv::field;
+
+namespace {
+ChargeResult charge(const Soup& soup, int degree, double tol = 1e-5) {
+  ChargeOptions o;
+  o.tolerance = tol;
+  o.quadrature_degree = degree;
+  return solve_charges(soup, o);
+}
+Vec3 last(const FieldLines& l, size_t i) { return l.points[l.offsets[i + 1] - 1]; }
+Vec3 first(const FieldLines& l, size_t i) { return l.points[l.offsets[i]]; }
+}  // namespace
+
+TEST(Trace, SphereLinesAreRadial) {
+  Soup soup = shapes::to_soup(shapes::icosphere(1.0, 2));
+  ChargeResult c = charge(soup, 4);
+  TraceOptions o;
+  o.max_steps = 200;
+  o.step = 0.05;
+  o.stop_radius = 2.0;
+  FieldLines lines = trace_field_lines(c, corner_seeds(soup), o);
+  ASSERT_EQ(lines.size(), soup.triangles.size() * 3);
+  double worst = 0;
+  for (size_t i = 0; i < lines.size(); ++i) {
+    EXPECT_EQ(lines.ends[i], LineEnd::escaped);
+    Vec3 v = first(lines, i), e = last(lines, i);
+    // the end point lies on the ray through the vertex
+    worst = std::max(worst, norm(cross(normalized(e), normalized(v))));
+    EXPECT_GT(norm(e), 1.5);
+  }
+  std::printf("sphere: worst angle between end point and vertex direction %.2e rad\n", worst);
+  EXPECT_LT(worst, 2e-2);
+}
+
+TEST(Trace, PipeLinesCrossNoTriangle) {
+  // Fig. 15: an open pipe of 320 faces, degree-4 quadrature.
+  Soup soup = shapes::to_soup(shapes::pipe(0.5, 2.0, 16, 10));
+  ASSERT_EQ(soup.triangles.size(), 320u);
+  ChargeResult c = charge(soup, 4);
+  TraceOptions o;
+  o.max_steps = 200;
+  o.step = 0.05;
+  FieldLines lines = trace_field_lines(c, corner_seeds(soup), o);
+  size_t crossings = 0, escaped = 0;
+  for (size_t i = 0; i < lines.size(); ++i) {
+    if (lines.ends[i] == LineEnd::escaped) ++escaped;
+    // skip the first segment (vertex -> start point), which touches the soup by construction
+    for (uint32_t k = lines.offsets[i] + 1; k + 1 < lines.offsets[i + 1]; ++k)
+      for (size_t t = 0; t < soup.triangles.size(); ++t)
+        if (segment_intersects_triangle(lines.points[k], lines.points[k + 1], soup.corner(t, 0), soup.corner(t, 1),
+                                        soup.corner(t, 2)))
+          ++crossings;
+  }
+  std::printf("pipe: %zu lines, %zu escaped, %zu segment-triangle crossings\n", lines.size(), escaped, crossings);
+  EXPECT_EQ(crossings, 0u);
+  EXPECT_EQ(escaped, lines.size());
+}
+
+TEST(Trace, TwoClosedPartsTraceOutward) {
+  TriMesh a = shapes::icosphere(0.5, 2), b = shapes::cube(0.8, 4);
+  shapes::translate(b, {1.6, 0.2, 0});
+  Soup soup = shapes::merge(shapes::to_soup(a), shapes::to_soup(b));
+  ChargeResult c = charge(soup, 4);
+  TraceOptions o;
+  o.max_steps = 300;
+  o.step = 0.04;
+  FieldLines lines = trace_field_lines(c, corner_seeds(soup), o);
+  const size_t na = a.faces.size();
+  size_t inward = 0;
+  for (size_t i = 0; i < lines.size(); ++i) {
+    EXPECT_EQ(lines.ends[i], LineEnd::escaped) << "line " << i;
+    size_t tri = lines.corner[i] / 3;
+    Vec3 part_center = tri < na ? Vec3{0, 0, 0} : Vec3{1.6, 0.2, 0};
+    Vec3 v = first(lines, i), x1 = lines.points[lines.offsets[i] + 1];
+    if (dot(x1 - v, v - part_center) <= 0) ++inward;
+  }
+  EXPECT_EQ(inward, 0u);
+}
