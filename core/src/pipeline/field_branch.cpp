@@ -34,7 +34,8 @@ std::string trace_params(const FieldBranchOptions& b) {
   s.precision(17);
   s << "int=" << int(o.integrator) << " steps=" << o.max_steps << " step=" << o.step
     << " eps=" << o.start_offset << " stop=" << o.stop_radius << " p=" << o.fmm_order
-    << " theta=" << o.fmm_theta << " keep=" << o.keep_points << " orient=" << b.orient_sides
+    << " theta=" << o.fmm_theta << " keep=" << o.keep_points << " adaptive=" << o.adaptive_step
+    << " direct=" << o.direct << " orient=" << b.orient_sides
     << " weld=" << b.weld_tolerance << " edge=" << b.weld_edge_fraction;
   return s.str();
 }
