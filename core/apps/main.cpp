@@ -22,9 +22,10 @@ Usage:
   soupuv map IN -o OUT.glb [options]
       Gives every triangle UVs and writes a textured GLB that keeps the input's
       positions, nodes, meshes and materials.
-      --method box|field     UV method (default: box). box is the tri-planar
-                             box projection baseline (paper §11); field is the
-                             monopole field-line method (not built yet: fails).
+      --method field|box     UV method (default: field). field is the
+                             monopole field-line method (offset proxy + atlas,
+                             field lines from every corner); box is the
+                             tri-planar box projection baseline (paper §11).
       --diagnostics OUT.json diagnostics (proto/diagnostics.schema.json)
       --texture IMG          embed this PNG/JPEG as baseColorTexture instead of
                              the generated UV-check texture
@@ -36,6 +37,24 @@ Usage:
                              bar: a progress bar when stderr is a terminal
                              (default); json: one {"stage":..,"fraction":..}
                              object per line on stderr; none: quiet
+    field method options:
+      --offset auto|F        proxy offset: auto (tightest enclosing proxy of a
+                             ladder, default) or a fraction F of the diagonal
+      --offset-abs L         proxy offset as an absolute length
+      --resolution N         proxy grid cells along the longest axis (0 = auto)
+      --steps N              field-line step limit (default 100)
+      --integrator euler|midpoint
+      --solver krylov|robin-hood   charge solver (default krylov)
+      --tolerance X          charge solve: max relative potential deviation
+      --threads N            total threads (the two branches share them)
+      --cache-dir DIR        reuse charges and field lines across runs and
+                             processes (content-addressed)
+      --seam-hints FILE      JSON [[[x,y,z],...],...]: polylines forced as seams
+      --original FILE        welded original with the same triangle order, for
+                             the continuity figure (else corners are welded)
+      --debug-prefix P       also write P.proxy.glb (textured proxy),
+                             P.lines.glb (field lines), P.uv.png (UV layout)
+      --no-refine-intersections  --no-orient  --no-chart-fix
 
   soupuv --help | --version
 

@@ -21,6 +21,7 @@ struct MapArgs {
   int texture_size = 1024;
   bool draco = false, normals = false, allow_external_uris = false;
   ProgressMode progress = ProgressMode::bar;
+  MethodFlags method_flags;  // the UV methods' own options (uv_method.h)
 };
 
 MapArgs parse(const std::vector<std::string>& args) {
@@ -47,6 +48,7 @@ MapArgs parse(const std::vector<std::string>& args) {
     else if (a == "--normals") m.normals = true;
     else if (a == "--allow-external-uris") m.allow_external_uris = true;
     else if (a == "--progress") m.progress = parse_progress_mode(value());
+    else if (parse_method_flag(args, i, m.method_flags)) continue;
     else if (!a.empty() && a[0] == '-') throw UsageError{"map: unknown option " + a};
     else if (m.input.empty()) m.input = a;
     else throw UsageError{"map takes one input file"};
@@ -92,7 +94,7 @@ int run_map(const std::vector<std::string>& args) {
   write_options.draco = m.draco;
   write_options.normals = m.normals;
 
-  MethodRun run = compute_uvs(asset, m.method, progress);
+  MethodRun run = compute_uvs(asset, m.method, m.method_flags, progress);
 
   start = std::chrono::steady_clock::now();
   progress.update("write", 0.0);

@@ -1,51 +1,163 @@
-// UV method dispatch for `soupuv map` (see uv_method.h).
+// UV method dispatch for `soupuv map` (see uv_method.h): flags -> MapOptions
+// -> soupuv::run_map, plus the optional debug files.
 #include "uv_method.h"
 
-#include <array>
+#include <fstream>
+#include <memory>
 
 #include "cli.h"
-#include "soupuv/baseline/box_projection.h"
+#include "soupuv/cache/store.h"
 #include "soupuv/errors.h"
-#include "soupuv/quality/uv_metrics.h"
+#include "soupuv/io/load.h"
+#include "soupuv/io/texture.h"
+#include "soupuv/quality/uv_layout.h"
 
 namespace soupuv::cli {
 
 namespace {
 
-// Quality figures for any method's UVs. Adjacency comes from welding corners
-// that coincide up to 1e-6 of the bounding-box diagonal: exact for welded
-// inputs; a noisy soup has (almost) no adjacency, so continuity is omitted
-// there and adjacent_pairs says why.
-nlohmann::json uv_diagnostics(const Soup& soup, const std::vector<Vec2>& uvs) {
-  quality::CornerUvs corners(soup.triangles.size());
-  for (size_t t = 0; t < corners.size(); ++t)
-    corners[t] = {uvs[t * 3], uvs[t * 3 + 1], uvs[t * 3 + 2]};
-  double tolerance = 1e-6 * bounding_box(soup).diagonal();
-  auto adjacency = quality::metric_adjacency(soup, nullptr, tolerance);
-  // to_json leaves continuity out when there are no adjacent pairs.
-  nlohmann::json uv = quality::to_json(quality::uv_metrics(soup, corners, adjacency));
-  uv["weld_tolerance"] = tolerance;
-  return uv;
+double number(const std::string& flag, const std::string& v) {
+  try {
+    size_t used = 0;
+    double x = std::stod(v, &used);
+    if (used != v.size()) throw std::invalid_argument(v);
+    return x;
+  } catch (const std::exception&) {
+    throw UsageError{flag + " needs a number, not '" + v + "'"};
+  }
+}
+
+int integer(const std::string& flag, const std::string& v, int lo, int hi) {
+  double x = number(flag, v);
+  if (x != double(int(x)) || x < lo || x > hi)
+    throw UsageError{flag + " needs a whole number in [" + std::to_string(lo) + ", " + std::to_string(hi) + "]"};
+  return int(x);
+}
+
+std::vector<atlas::SeamHint> read_seam_hints(const std::string& path) {
+  std::ifstream in(path);
+  if (!in) throw IoError{"cannot read seam hints " + path};
+  nlohmann::json j;
+  try {
+    j = nlohmann::json::parse(in);
+  } catch (const std::exception& e) {
+    throw Error(ErrorCode::invalid_input, "seam hints " + path + ": " + e.what());
+  }
+  std::vector<atlas::SeamHint> hints;
+  if (!j.is_array()) throw Error(ErrorCode::invalid_input, "seam hints: an array of polylines expected");
+  for (const auto& line : j) {
+    atlas::SeamHint h;
+    if (!line.is_array()) throw Error(ErrorCode::invalid_input, "seam hints: a polyline is an array of [x,y,z]");
+    for (const auto& p : line) {
+      if (!p.is_array() || p.size() != 3 || !p[0].is_number() || !p[1].is_number() || !p[2].is_number())
+        throw Error(ErrorCode::invalid_input, "seam hints: a point is [x,y,z]");
+      h.points.push_back({p[0].get<double>(), p[1].get<double>(), p[2].get<double>()});
+    }
+    hints.push_back(std::move(h));
+  }
+  return hints;
+}
+
+void write_bytes(const std::string& path, const std::vector<uint8_t>& bytes) {
+  write_file_atomically(path, bytes.data(), bytes.size());
 }
 
 }  // namespace
 
-MethodRun compute_uvs(const io::Asset& asset, const std::string& method, Progress& progress) {
-  MethodRun run;
-  if (method == "box") {
-    baseline::BoxResult box = baseline::box_projection(asset.soup, {}, progress);
-    run.corner_uvs = std::move(box.corner_uvs);
-    run.diagnostics["stages"]["box"]["seconds"] = box.seconds;
-    run.diagnostics["box"]["face_triangles"] = box.face_triangles;
-  } else if (method == "field") {
-    throw Error(ErrorCode::not_built,
-                "--method field is not built yet (the field pipeline has not landed); use --method box");
+bool parse_method_flag(const std::vector<std::string>& args, size_t& i, MethodFlags& f) {
+  const std::string& a = args[i];
+  auto value = [&]() -> const std::string& {
+    if (i + 1 >= args.size()) throw UsageError{a + " needs a value"};
+    return args[++i];
+  };
+  MapOptions& o = f.options;
+  if (a == "--offset") {
+    const std::string& v = value();
+    if (v == "auto") {
+      o.proxy.offset_mode = proxy::OffsetMode::automatic;
+    } else {
+      o.proxy.offset_mode = proxy::OffsetMode::relative;
+      o.proxy.offset = number(a, v);
+      if (!(o.proxy.offset > 0 && o.proxy.offset < 1)) throw UsageError{"--offset needs auto or a fraction in (0, 1)"};
+    }
+  } else if (a == "--offset-abs") {
+    o.proxy.offset_mode = proxy::OffsetMode::absolute;
+    o.proxy.offset = number(a, value());
+    if (!(o.proxy.offset > 0)) throw UsageError{"--offset-abs needs a positive length"};
+  } else if (a == "--resolution") {
+    o.proxy.resolution = integer(a, value(), 0, 2048);
+  } else if (a == "--steps") {
+    o.trace.max_steps = integer(a, value(), 1, 100000);
+  } else if (a == "--integrator") {
+    const std::string& v = value();
+    if (v == "euler") o.trace.integrator = field::TraceOptions::Integrator::euler;
+    else if (v == "midpoint") o.trace.integrator = field::TraceOptions::Integrator::midpoint;
+    else throw UsageError{"--integrator must be euler or midpoint"};
+  } else if (a == "--solver") {
+    const std::string& v = value();
+    if (v == "krylov") o.charge.solver = field::ChargeOptions::Solver::krylov;
+    else if (v == "robin-hood") o.charge.solver = field::ChargeOptions::Solver::robin_hood;
+    else throw UsageError{"--solver must be krylov or robin-hood"};
+  } else if (a == "--tolerance") {
+    o.charge.tolerance = number(a, value());
+    if (!(o.charge.tolerance > 0 && o.charge.tolerance < 1)) throw UsageError{"--tolerance must be in (0, 1)"};
+  } else if (a == "--threads") {
+    o.threads = integer(a, value(), 1, 1024);
+  } else if (a == "--cache-dir") {
+    f.cache_dir = value();
+  } else if (a == "--debug-prefix") {
+    f.debug_prefix = value();
+  } else if (a == "--original") {
+    f.original = value();
+  } else if (a == "--seam-hints") {
+    f.seam_hints = value();
+  } else if (a == "--no-refine-intersections") {
+    o.refine_intersections = false;
+  } else if (a == "--no-orient") {
+    o.orient_sides = false;
+  } else if (a == "--no-chart-fix") {
+    o.transfer.fix_chart_boundaries = false;
   } else {
-    throw UsageError{"--method must be box or field, not '" + method + "'"};
+    return false;
   }
-  progress.update("metrics", 0.0);
-  run.diagnostics["uv"] = uv_diagnostics(asset.soup, run.corner_uvs);
-  progress.update("metrics", 1.0);
+  return true;
+}
+
+MethodRun compute_uvs(const io::Asset& asset, const std::string& method, const MethodFlags& flags,
+                      Progress& progress) {
+  MapOptions options = flags.options;
+  if (method == "box") options.method = MapMethod::box;
+  else if (method == "field") options.method = MapMethod::field;
+  else throw UsageError{"--method must be box or field, not '" + method + "'"};
+
+  std::unique_ptr<cache::Store> store;
+  if (!flags.cache_dir.empty()) {
+    store = std::make_unique<cache::Store>(cache::StoreOptions{.memory_bytes = size_t(256) << 20,
+                                                               .directory = flags.cache_dir});
+    options.cache = store.get();
+  }
+  io::Asset original;
+  if (!flags.original.empty()) {
+    original = io::load_file(flags.original);
+    options.original = &original.soup;
+  }
+  if (!flags.seam_hints.empty()) options.atlas.seam_hints = read_seam_hints(flags.seam_hints);
+  options.keep_debug = !flags.debug_prefix.empty();
+
+  MapResult result = run_map(asset, options, progress);
+  MethodRun run;
+  run.corner_uvs = std::move(result.corner_uvs);
+  run.diagnostics = std::move(result.diagnostics);
+
+  if (!flags.debug_prefix.empty()) {
+    const std::string& p = flags.debug_prefix;
+    write_bytes(p + ".uv.png", quality::uv_layout_png(run.corner_uvs, 1024));
+    if (options.method == MapMethod::field) {
+      write_bytes(p + ".proxy.glb", proxy_debug_glb(result.debug, io::uv_check_texture(1024).bytes));
+      write_bytes(p + ".lines.glb", field_lines_glb(result.debug.lines));
+    }
+    run.diagnostics["debug_outputs"] = {{"prefix", p}};
+  }
   return run;
 }
 

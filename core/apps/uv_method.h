@@ -1,6 +1,6 @@
-// The one place where the CLI picks the UV method. The pipeline engineer wires
-// `field` here (and may make it the default); nothing else in the CLI knows
-// which methods exist.
+// The one place where the CLI picks the UV method and turns the method's flags
+// into core options. Both methods go through soupuv::run_map (core/include/
+// soupuv/pipeline.h), so they report the same diagnostics.
 #pragma once
 
 #include <string>
@@ -9,23 +9,37 @@
 #include <nlohmann/json.hpp>
 
 #include "soupuv/io/asset.h"
+#include "soupuv/pipeline.h"
 #include "soupuv/progress.h"
 #include "soupuv/vec.h"
 
 namespace soupuv::cli {
 
 // The method `map` uses when --method is absent.
-inline constexpr const char* kDefaultMethod = "box";
+inline constexpr const char* kDefaultMethod = "field";
+
+// Flags of the UV methods (listed in `soupuv --help`).
+struct MethodFlags {
+  MapOptions options;
+  std::string cache_dir;     // on-disk cache shared between runs and processes
+  std::string debug_prefix;  // PREFIX.proxy.glb, PREFIX.lines.glb, PREFIX.uv.png
+  std::string original;      // continuity reference: welded mesh, same triangle order
+  std::string seam_hints;    // JSON file: [[[x,y,z], ...], ...]
+};
+
+// If args[i] is a method flag, consumes it (and its value: i advances) and
+// returns true. Throws UsageError for a bad value.
+bool parse_method_flag(const std::vector<std::string>& args, size_t& i, MethodFlags& flags);
 
 struct MethodRun {
   std::vector<Vec2> corner_uvs;  // 3 per soup triangle
-  // Diagnostics the method contributes: at least "uv" and "stages" (stage
-  // name -> {"seconds": s}); may add "proxy", "atlas", "trace", "cache", ...
+  // Diagnostics the method contributes: "uv", "stages" (stage name ->
+  // {"seconds": s}), and for field "proxy", "atlas", "trace", "cache", ...
   nlohmann::json diagnostics = nlohmann::json::object();
 };
 
-// Throws UsageError for an unknown method, Error{not_built} for one that is
-// not implemented yet.
-MethodRun compute_uvs(const io::Asset& asset, const std::string& method, Progress& progress);
+// Throws UsageError for an unknown method.
+MethodRun compute_uvs(const io::Asset& asset, const std::string& method, const MethodFlags& flags,
+                      Progress& progress);
 
 }  // namespace soupuv::cli

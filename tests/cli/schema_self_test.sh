@@ -6,6 +6,6 @@
 set -euo pipefail
 soupuv=$1 source_dir=$2 input=$3 outdir=$4
 mkdir -p "$outdir"
-"$soupuv" map "$input" -o "$outdir/out.glb" --diagnostics "$outdir/diagnostics.json" --progress none >/dev/null
+"$soupuv" map "$input" -o "$outdir/out.glb" --diagnostics "$outdir/diagnostics.json" --progress none --method box >/dev/null
 node "$source_dir/tests/tools/check_schema.mjs" "$source_dir/proto/diagnostics.schema.json" \
      "$outdir/diagnostics.json" --self-test
