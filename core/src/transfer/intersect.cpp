@@ -127,7 +127,11 @@ IntersectionRefinement refine_intersections(const Soup& soup, Progress& progress
   r.soup.warnings = soup.warnings;
   for (size_t t = 0; t < n; ++t) {
     Tri3 ta = tri(t);
+    const double min_area = 1e-10 * norm2(ta[1] - ta[0]) + 1e-300;
     auto emit = [&](Vec3 p0, Vec3 p1, Vec3 p2) {
+      // Clipping leaves slivers where a corner lies (almost) on a cutting
+      // plane; a zero-area source triangle has no charge density.
+      if (cutters[t].size() && 0.5 * norm(cross(p1 - p0, p2 - p0)) <= min_area) return;
       uint32_t base = uint32_t(r.soup.positions.size());
       r.soup.positions.insert(r.soup.positions.end(), {p0, p1, p2});
       r.soup.triangles.push_back({base, base + 1, base + 2});
