@@ -88,7 +88,11 @@ App::App(Config config) {
   http_.set_read_timeout(30, 0);
   http_.set_write_timeout(30, 0);
   http_.set_keep_alive_timeout(5);
-  http_.set_keep_alive_max_count(100);
+  // One request per connection. A request refused on its headers leaves its
+  // body unread, and 0.11.4 ignores a handler's "Connection: close": on a
+  // kept-alive connection the body would be parsed as the next request
+  // (request smuggling, e.g. through a proxy). Loopback/proxy reconnects are cheap.
+  http_.set_keep_alive_max_count(1);
   // httplib's default also sets SO_REUSEPORT, which lets a second server
   // silently share the port with a live one; keep only SO_REUSEADDR.
   http_.set_socket_options([](socket_t sock) {

@@ -33,13 +33,12 @@ const std::vector<ParamSpec>& specs() {
       {"solver", "--solver", Kind::choice, nullptr, 0, 0, {"robin-hood", "krylov"}},
       {"tolerance", "--tolerance", Kind::number, nullptr, 1e-12, 1},
       {"steps", "--steps", Kind::integer, nullptr, 1, 100000},
-      {"integrator", "--integrator", Kind::choice, nullptr, 0, 0, {"euler", "rk4", "rk45"}},
+      {"integrator", "--integrator", Kind::choice, nullptr, 0, 0, {"euler", "midpoint"}},
       {"texture_size", "--texture-size", Kind::integer, nullptr, 64, 4096, {}, true},
       {"padding", "--padding", Kind::integer, nullptr, 0, 256},
       {"draco", "--draco", Kind::boolean, false},
-      // Special: the scheduler passes --debug-dir with the job's work directory.
-      {"debug_outputs", "--debug-dir", Kind::boolean, false},
-      {"seam_hints", "--seam-hints", Kind::boolean, nullptr},
+      // Special: the scheduler passes --debug-prefix inside the job's work directory.
+      {"debug_outputs", "--debug-prefix", Kind::boolean, false},
   };
   return table;
 }

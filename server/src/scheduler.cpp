@@ -221,7 +221,7 @@ void Scheduler::run_job(const std::string& id) {
   add("--threads", std::to_string(config_.threads_per_job()));
   add("--cache-dir", data_.cache().string());
   add("--cache-size-mb", std::to_string(config_.cache_size_mb));
-  if (job->params.value("debug_outputs", false)) add("--debug-dir", work.string());
+  if (job->params.value("debug_outputs", false)) add("--debug-prefix", (work / "debug").string());
   for (const char* tex : {"texture.png", "texture.jpg"})
     if (fs::exists(dir / tex)) add("--texture", (dir / tex).string());
   for (auto& f : params_to_flags(job->params, caps_)) argv.push_back(f);
@@ -286,6 +286,11 @@ void Scheduler::run_job(const std::string& id) {
     if (!fs::exists(work / "result.glb")) {
       verdict = {JobState::failed, JobError{"internal", 500, "worker exited 0 without writing a result"}};
     } else {
+      // --debug-prefix names: debug.proxy.glb, debug.lines.glb, debug.uv.png.
+      const std::pair<const char*, const char*> debug_names[] = {
+          {"debug.proxy.glb", "proxy.glb"}, {"debug.lines.glb", "field-lines.glb"}, {"debug.uv.png", "uv-layout.png"}};
+      for (const auto& [from, to] : debug_names)
+        if (fs::exists(work / from)) fs::rename(work / from, work / to);
       for (const auto& name : output_names())
         if (fs::exists(work / name)) {
           commit_file(work / name, dir / name);

@@ -102,3 +102,15 @@ TEST_F(Hardening, GarbageRequestLine) {
   std::string r = raw_exchange(server_->port(), "NONSENSE\r\n\r\n", 1500);
   EXPECT_TRUE(r.empty() || (status_of(r) >= 400 && status_of(r) < 500)) << r;
 }
+
+TEST_F(Hardening, RefusedBodyIsNeverParsedAsASecondRequest) {
+  const std::string smuggled = "GET /v1/jobs HTTP/1.1\r\nHost: x\r\n\r\n";
+  std::string r = post("Content-Type: text/plain\r\nContent-Length: " + std::to_string(smuggled.size()) + "\r\n", smuggled);
+  EXPECT_EQ(status_of(r), 415) << r;
+  size_t responses = 0;
+  for (size_t p = r.find("HTTP/1.1 "); p != std::string::npos; p = r.find("HTTP/1.1 ", p + 1)) ++responses;
+  EXPECT_EQ(responses, 1u) << r;
+  std::string te = post("Content-Type: model/gltf-binary\r\nTransfer-Encoding: chunked\r\n", smuggled);
+  EXPECT_EQ(status_of(te), 411) << te;
+  EXPECT_EQ(te.find("\"jobs\""), std::string::npos) << te;
+}
