@@ -25,8 +25,14 @@ double sampled_field_error(const ChargeResult& c, const FieldLines& lines, const
   for (size_t i = 0; i < lines.points.size(); i += stride) xs.push_back(lines.points[i]);
   std::vector<Vec3> Ed;
   direct_sum(src, c.charges, xs, nullptr, &Ed);
+  // The same target region the tracer uses (a cube around its stop sphere),
+  // so the sampled error is the tracer's own FMM error.
+  Box3 box;
+  for (Vec3 p : c.positions) box.add(p);
+  const double R = o.stop_radius;
   Box3 region;
-  for (Vec3 x : xs) region.add(x);
+  region.add(box.center() - Vec3{R, R, R});
+  region.add(box.center() + Vec3{R, R, R});
   FmmOptions fo;
   fo.order = o.fmm_order;
   fo.theta = o.fmm_theta;
