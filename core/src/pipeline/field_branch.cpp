@@ -35,7 +35,7 @@ std::string trace_params(const FieldBranchOptions& b) {
   s << "int=" << int(o.integrator) << " steps=" << o.max_steps << " step=" << o.step
     << " eps=" << o.start_offset << " stop=" << o.stop_radius << " p=" << o.fmm_order
     << " theta=" << o.fmm_theta << " keep=" << o.keep_points << " adaptive=" << o.adaptive_step
-    << " direct=" << o.direct << " orient=" << b.orient_sides
+    << " direct=" << o.direct << " probes=" << b.trace_cut_probes << " orient=" << b.orient_sides
     << " weld=" << b.weld_tolerance << " edge=" << b.weld_edge_fraction;
   return s.str();
 }
@@ -218,6 +218,7 @@ FieldBranchResult run_field_branch(const Soup& soup, const std::string& soup_has
   }
   // Probe points inside the kept piece of each cut triangle, traced on that
   // triangle's side.
+  if (!options.trace_cut_probes) r.probes.clear();
   if (!r.probes.empty()) {
     std::vector<int8_t> triangle_side(soup.triangles.size(), 0);  // the side its lines took
     for (size_t l = 0; l < lines.size(); ++l)

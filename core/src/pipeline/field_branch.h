@@ -22,6 +22,7 @@ struct FieldBranchOptions {
   field::ChargeOptions charge;
   field::TraceOptions trace;
   bool refine_intersections = true;
+  bool trace_cut_probes = false;   // probes of cut triangles (intersect.h)
   bool orient_sides = true;
   double weld_tolerance = 0;       // absolute
   double weld_edge_fraction = 0.3;

@@ -158,6 +158,7 @@ MapResult run_map(const Soup& soup, const MapOptions& options, Progress& progres
   fo.charge = options.charge;
   fo.trace = options.trace;
   fo.refine_intersections = options.refine_intersections;
+  fo.trace_cut_probes = options.refine_intersections && options.cut_probe_extrapolation;
   fo.orient_sides = options.orient_sides;
   fo.weld_tolerance = options.weld_tolerance * diag;
   fo.weld_edge_fraction = options.weld_edge_fraction;
