@@ -279,10 +279,11 @@ double Fmm::near_part(int leaf, Vec3 x, double* phi, Vec3* E, bool skip_close) c
       if (src_.is_near(j, x)) {
         if (skip_close) continue;
         if (!(src_.area[j] > 0)) continue;
-        TriangleIntegrals t = triangle_integrals(src_.a[j], src_.b[j], src_.c[j], x);
-        double s = q / src_.area[j];
-        f += s * t.potential;
-        ex += s * t.field.x; ey += s * t.field.y; ez += s * t.field.z;
+        double pj = 0;
+        Vec3 ej{0, 0, 0};
+        near_potential_field(src_, j, x, phi ? &pj : nullptr, E ? &ej : nullptr);
+        f += q * pj;
+        ex += q * ej.x; ey += q * ej.y; ez += q * ej.z;
         if (E) nearest = std::min(nearest, point_triangle_distance(src_.a[j], src_.b[j], src_.c[j], x));
         continue;
       }

@@ -39,13 +39,44 @@ SourceGeometry make_sources(const std::vector<Vec3>& positions, const std::vecto
   // Near-field threshold per degree: beyond it the rule's relative error on one
   // triangle is below ~1e-6 (measured in the tests; a higher degree converges sooner).
   s.near_factor = quadrature_degree == 2 ? 6.0 : (quadrature_degree == 4 ? 4.0 : 3.0);
+  s.closed_factor = std::min(2.5, s.near_factor);
   return s;
+}
+
+namespace {
+// The middle band: the degree-6 rule on triangle j, points built on the fly.
+void middle_band(const SourceGeometry& s, size_t j, Vec3 x, double* phi, Vec3* E) {
+  static const TriangleRule& rule = triangle_rule(6);
+  const Vec3 a = s.a[j], b = s.b[j], c = s.c[j];
+  double f = 0, ex = 0, ey = 0, ez = 0;
+  for (size_t k = 0; k < rule.weights.size(); ++k) {
+    const auto& l = rule.points[k];
+    Vec3 d = x - (l[0] * a + l[1] * b + l[2] * c);
+    double inv = 1.0 / std::sqrt(d.x * d.x + d.y * d.y + d.z * d.z);
+    double wi = rule.weights[k] * inv;
+    f += wi;
+    double w3 = wi * inv * inv;
+    ex += w3 * d.x; ey += w3 * d.y; ez += w3 * d.z;
+  }
+  if (phi) *phi += f;
+  if (E) *E += Vec3{ex, ey, ez};
+}
+}  // namespace
+
+void near_potential_field(const SourceGeometry& s, size_t j, Vec3 x, double* phi, Vec3* E) {
+  if (!(s.area[j] > 0)) return;
+  if (!s.is_closed_form(j, x)) return middle_band(s, j, x, phi, E);
+  TriangleIntegrals t = triangle_integrals(s.a[j], s.b[j], s.c[j], x);
+  double inv = 1.0 / s.area[j];
+  if (phi) *phi += t.potential * inv;
+  if (E) *E += t.field * inv;
 }
 
 double unit_potential(const SourceGeometry& s, size_t j, Vec3 x) {
   if (s.is_near(j, x)) {
-    if (!(s.area[j] > 0)) return 0.0;
-    return triangle_integrals(s.a[j], s.b[j], s.c[j], x).potential / s.area[j];
+    double phi = 0;
+    near_potential_field(s, j, x, &phi, nullptr);
+    return phi;
   }
   const int m = s.points_per_triangle;
   const Vec3* q = &s.qpoints[j * m];
@@ -55,14 +86,7 @@ double unit_potential(const SourceGeometry& s, size_t j, Vec3 x) {
 }
 
 void unit_potential_field(const SourceGeometry& s, size_t j, Vec3 x, double* phi, Vec3* E) {
-  if (s.is_near(j, x)) {
-    if (!(s.area[j] > 0)) return;
-    TriangleIntegrals t = triangle_integrals(s.a[j], s.b[j], s.c[j], x);
-    double inv = 1.0 / s.area[j];
-    if (phi) *phi += t.potential * inv;
-    if (E) *E += t.field * inv;
-    return;
-  }
+  if (s.is_near(j, x)) return near_potential_field(s, j, x, phi, E);
   const int m = s.points_per_triangle;
   const Vec3* q = &s.qpoints[j * m];
   double f = 0;
