@@ -36,6 +36,7 @@ double sampled_field_error(const ChargeResult& c, const FieldLines& lines, const
   FmmOptions fo;
   fo.order = o.fmm_order;
   fo.theta = o.fmm_theta;
+  fo.leaf_size = o.fmm_leaf_size;
   Fmm fmm(src, fo, region);
   fmm.set_charges(c.charges);
   double worst = 0;

@@ -60,6 +60,7 @@ FieldLines trace_field_lines(const ChargeResult& charges, const std::vector<Trac
   fo.order = options.fmm_order;
   fo.theta = options.fmm_theta;
   fo.threads = options.threads;
+  fo.leaf_size = options.fmm_leaf_size;
   std::unique_ptr<Fmm> fmm;
   if (!options.direct) {
     fmm = std::make_unique<Fmm>(src, fo, region);

@@ -112,6 +112,10 @@ struct TraceOptions {
   int threads = 0;
   int fmm_order = 6;         // the tracer's own FMM accuracy (field rel. error ~1e-5)
   double fmm_theta = 0.5;
+  // Source triangles per FMM leaf. The tracer pays the near field at every
+  // evaluation but the expansions only once, so small leaves win (measured on
+  // a 3,200-triangle torus, 10 midpoint steps, 1 thread: 32 -> 9.5 s, 8 -> 6.8 s).
+  int fmm_leaf_size = 8;
   bool keep_points = true;   // false: keep only the first and last point of each line
   bool adaptive_step = true; // shorten steps near the surface (off: fixed steps, for integrator studies)
   bool direct = false;       // evaluate the field by O(n) direct summation (the FMM's slow twin)
