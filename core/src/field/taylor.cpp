@@ -41,18 +41,27 @@ TaylorBasis::TaylorBasis(int order) : p_(order) {
       shift_.push_back({b, a, at(A[0] - B[0], A[1] - B[1], A[2] - B[2]), c});
     }
   }
-  // m2l: L_b += (-1)^|b| C(a+b, a) k_{a+b}(R) M_a for |a| + |b| <= p
-  for (int a = 0; a < n; ++a) {
-    auto A = index_[a];
-    for (int b = 0; b < n; ++b) {
-      auto B = index_[b];
-      int deg = A[0] + A[1] + A[2] + B[0] + B[1] + B[2];
-      if (deg > p_) continue;
-      double c = binomial(A[0] + B[0], A[0]) * binomial(A[1] + B[1], A[1]) *
-                 binomial(A[2] + B[2], A[2]);
-      if ((B[0] + B[1] + B[2]) % 2) c = -c;
-      m2l_.push_back({a, b, at(A[0] + B[0], A[1] + B[1], A[2] + B[2]), c});
+  // m2l: L_b += (-1)^|b| C(a+b, a) k_{a+b}(R) M_a for |a| + |b| <= p, with
+  // C(a+b, a) = (a+b)! / (a! b!) folded into the scaled operands (taylor.h).
+  factorial_.resize(index_.size());
+  for (size_t a = 0; a < index_.size(); ++a) {
+    const auto& A = index_[a];
+    factorial_[a] = 1;
+    for (int d = 0; d < 3; ++d)
+      for (int f = 2; f <= A[d]; ++f) factorial_[a] *= f;
+  }
+  out_scale_.resize(n);
+  m2l_start_.assign(n + 1, 0);
+  for (int b = 0; b < n; ++b) {
+    auto B = index_[b];
+    const int degb = B[0] + B[1] + B[2];
+    out_scale_[b] = (degb % 2 ? -1.0 : 1.0) / factorial_[b];
+    const int na = size_for(p_ - degb);
+    for (int a = 0; a < na; ++a) {
+      auto A = index_[a];
+      m2l_power_.push_back(at(A[0] + B[0], A[1] + B[1], A[2] + B[2]));
     }
+    m2l_start_[b + 1] = static_cast<int>(m2l_power_.size());
   }
 }
 
@@ -105,26 +114,51 @@ void TaylorBasis::p2m(Vec3 c, const Vec3* x, const double* q, int n, double* M) 
 }
 
 void TaylorBasis::m2m(const double* Mchild, Vec3 d, double* Mparent) const {
-  std::vector<double> w(size());
-  monomials(d, p_, w.data());
+  double wbuf[1024];
+  std::vector<double> big;
+  double* w = wbuf;
+  if (size() > 1024) {
+    big.resize(size());
+    w = big.data();
+  }
+  monomials(d, p_, w);
   for (const Term& t : shift_) Mparent[t.to] += t.coef * w[t.power] * Mchild[t.from];
 }
 
 void TaylorBasis::m2l(const double* M, Vec3 R, double* L) const {
-  double kbuf[1024];
+  const int n = size();
+  double kbuf[1024], mbuf[1024];
   std::vector<double> big;
   double* k = kbuf;
-  if (size() > 1024) {
-    big.resize(size());
+  double* mt = mbuf;
+  if (n > 1024) {
+    big.resize(2 * n);
     k = big.data();
+    mt = k + n;
   }
   kernel(R, p_, k);
-  for (const Term& t : m2l_) L[t.to] += t.coef * k[t.power] * M[t.from];
+  for (int a = 0; a < n; ++a) {
+    k[a] *= factorial_[a];
+    mt[a] = M[a] / factorial_[a];
+  }
+  for (int b = 0; b < n; ++b) {
+    const int* pw = &m2l_power_[m2l_start_[b]];
+    const int count = m2l_start_[b + 1] - m2l_start_[b];
+    double sum = 0;
+    for (int a = 0; a < count; ++a) sum += k[pw[a]] * mt[a];
+    L[b] += out_scale_[b] * sum;
+  }
 }
 
 void TaylorBasis::l2l(const double* Lparent, Vec3 d, double* Lchild) const {
-  std::vector<double> w(size());
-  monomials(d, p_, w.data());
+  double wbuf[1024];
+  std::vector<double> big;
+  double* w = wbuf;
+  if (size() > 1024) {
+    big.resize(size());
+    w = big.data();
+  }
+  monomials(d, p_, w);
   // the shift list maps b -> a with a >= b; a local expansion shifts from a down to b
   for (const Term& t : shift_) Lchild[t.from] += t.coef * w[t.power] * Lparent[t.to];
 }

@@ -7,8 +7,8 @@
 // Multi-indices a = (i, j, k) with i + j + k <= p, ordered by total degree.
 // The kernel derivatives come from the recurrence
 //   |a| r^2 k_a = (2|a| - 1) sum_i R_i k_{a-e_i} - (|a| - 1) sum_i k_{a-2e_i}.
-// All translation operators are flat lists of (from, to, power, coefficient)
-// terms built once per order, so an application is one tight loop.
+// The shift operators are flat lists of (from, to, power, coefficient) terms
+// built once per order; M2L uses the scaled form described at m2l_start_.
 #pragma once
 
 #include <array>
@@ -58,7 +58,14 @@ class TaylorBasis {
   std::vector<std::array<int, 3>> index_;      // up to order p + 1
   std::vector<int> lookup_;                    // (i, j, k) -> linear index, -1 outside
   std::vector<Term> shift_;                    // M2M / L2L binomial shifts
-  std::vector<Term> m2l_;                      // from = a, to = b, power = a + b
+  // M2L in scaled form: with D_c = c! k_c and Mt_a = M_a / a!,
+  //   L_b += (-1)^|b| / b! * sum_{|a| <= p - |b|} D_{a+b} Mt_a,
+  // where the a's are the first size_for(p - |b|) indices (degree order), so
+  // the inner loop is contiguous in a and gathers only D (index a + b).
+  std::vector<int> m2l_start_;                 // per b: offset into m2l_power_
+  std::vector<int> m2l_power_;                 // index of a + b, a = 0, 1, ...
+  std::vector<double> factorial_;              // a! per index up to order p + 1
+  std::vector<double> out_scale_;              // (-1)^|b| / b! per b
   std::vector<std::array<int, 3>> down_;       // per coefficient: index of a - e_i (-1 if none)
 };
 
