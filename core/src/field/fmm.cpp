@@ -266,7 +266,7 @@ int Fmm::locate(Vec3 x) const {
   return A;
 }
 
-double Fmm::near_part(int leaf, Vec3 x, double* phi, Vec3* E, bool skip_close) const {
+double Fmm::near_part(int leaf, Vec3 x, double* phi, Vec3* E, bool skip_close, bool want_nearest) const {
   const int m = src_.points_per_triangle;
   double nearest = std::numeric_limits<double>::infinity();
   double f = 0;
@@ -284,7 +284,7 @@ double Fmm::near_part(int leaf, Vec3 x, double* phi, Vec3* E, bool skip_close) c
         near_potential_field(src_, j, x, phi ? &pj : nullptr, E ? &ej : nullptr);
         f += q * pj;
         ex += q * ej.x; ey += q * ej.y; ez += q * ej.z;
-        if (E) nearest = std::min(nearest, point_triangle_distance(src_.a[j], src_.b[j], src_.c[j], x));
+        if (want_nearest) nearest = std::min(nearest, point_triangle_distance(src_.a[j], src_.b[j], src_.c[j], x));
         continue;
       }
       const Vec3* p = &points_[static_cast<size_t>(k) * m];
@@ -334,14 +334,14 @@ void Fmm::evaluate(Vec3 x, double* phi, Vec3* E, double* nearest_close) const {
     return;
   }
   basis_.l2p(&L_[static_cast<size_t>(leaf) * ncoef_], x - tcells_[leaf].center, phi, E);
-  double nearest = near_part(leaf, x, phi, E, false);
+  double nearest = near_part(leaf, x, phi, E, false, nearest_close != nullptr);
   if (nearest_close) *nearest_close = nearest;
 }
 
 double Fmm::potential_without_close(int leaf, Vec3 x) const {
   double phi = 0;
   basis_.l2p(&L_[static_cast<size_t>(leaf) * ncoef_], x - tcells_[leaf].center, &phi, nullptr);
-  near_part(leaf, x, &phi, nullptr, true);
+  near_part(leaf, x, &phi, nullptr, true, false);
   return phi;
 }
 

@@ -100,7 +100,9 @@ class Fmm {
   void build_target_tree(Box3 region, const std::vector<Vec3>* targets);
   void traverse(int A, int B);
   void split_target(int A);
-  double near_part(int leaf, Vec3 x, double* phi, Vec3* E, bool skip_close) const;
+  // Returns the distance to the nearest closed-form triangle when want_nearest
+  // (a point-triangle distance per such triangle), else infinity.
+  double near_part(int leaf, Vec3 x, double* phi, Vec3* E, bool skip_close, bool want_nearest) const;
 
   const SourceGeometry& src_;
   FmmOptions opt_;
