@@ -41,4 +41,8 @@ int run_map(const std::vector<std::string>& args);
 // reader (or a canceled run) never sees half a file. Throws IoError.
 void write_file_atomically(const std::string& path, const void* data, size_t size);
 
+// Throws IoError unless the folder that will hold `path` exists and is
+// writable: checked before a long run, so a typo costs no minutes of work.
+void check_writable_destination(const std::string& path);
+
 }  // namespace soupuv::cli

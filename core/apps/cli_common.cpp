@@ -23,6 +23,13 @@ int exit_code(ErrorCode code) {
   return kInternal;
 }
 
+void check_writable_destination(const std::string& path) {
+  std::filesystem::path dir = std::filesystem::path(path).parent_path();
+  if (dir.empty()) dir = ".";
+  if (::access(dir.c_str(), W_OK | X_OK) != 0)
+    throw IoError{"cannot write " + path + ": " + std::strerror(errno)};
+}
+
 void write_file_atomically(const std::string& path, const void* data, size_t size) {
   namespace fs = std::filesystem;
   fs::path target(path);

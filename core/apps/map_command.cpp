@@ -55,6 +55,8 @@ MapArgs parse(const std::vector<std::string>& args) {
   }
   if (m.input.empty()) throw UsageError{"map needs an input file"};
   if (m.output.empty()) throw UsageError{"map needs -o OUT.glb"};
+  check_writable_destination(m.output);
+  if (!m.diagnostics.empty()) check_writable_destination(m.diagnostics);
   return m;
 }
 
