@@ -35,7 +35,7 @@ std::string trace_params(const FieldBranchOptions& b) {
   s << "int=" << int(o.integrator) << " steps=" << o.max_steps << " step=" << o.step
     << " eps=" << o.start_offset << " stop=" << o.stop_radius << " p=" << o.fmm_order
     << " theta=" << o.fmm_theta << " keep=" << o.keep_points << " adaptive=" << o.adaptive_step
-    << " direct=" << o.direct << " probes=" << b.trace_cut_probes << " orient=" << b.orient_sides
+    << " direct=" << o.direct << " leaf=" << o.fmm_leaf_size << " probes=" << b.trace_cut_probes << " orient=" << b.orient_sides
     << " weld=" << b.weld_tolerance << " edge=" << b.weld_edge_fraction;
   return s.str();
 }
