@@ -44,6 +44,10 @@ struct FmmStats {
 };
 
 class Fmm {
+  // The tracer's batched evaluator reads the frozen expansions and near lists
+  // directly (tracer_field.cpp): the sources never move while tracing.
+  friend class TracerField;
+
  public:
   // `region`: where evaluation points will lie (empty: the sources' bounding box).
   // Keeps a reference to `sources`: it must outlive the Fmm.
