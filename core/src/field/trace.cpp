@@ -1,15 +1,25 @@
-// Field-line tracing (paper §7.6): one line per seed, started at
-// v + eps * n on the side where |E| is larger, stepped along E/|E| (eq. 10)
-// by explicit Euler or the midpoint method. The step shrinks near the
-// surface to half the distance to the nearest closed-form triangle (never
-// below eps), so a line cannot jump through a nearby face; lines stop outside
-// the stop sphere, at the step limit, or where |E| vanishes. The FMM over
-// the sources is built once; each step only evaluates it at the particle.
+// Field-line tracing (paper §7.6).
+//
+// Inputs: a ChargeResult (charged source triangles) and seeds; output: one
+// polyline per seed (FieldLines). A line starts at v + eps * n on the side
+// where |E| is larger and steps along E/|E| (eq. 10) by explicit Euler or the
+// midpoint method. The step shrinks near the surface to half the distance to
+// the nearest near-rule triangle (never below eps), so a line cannot jump
+// through a nearby face; lines stop outside the stop sphere, at the step
+// limit, or where |E| vanishes.
+//
+// All lines advance together, one step at a time: every field evaluation of a
+// step is one batch, sorted by FMM target leaf, so the points that share a
+// leaf share its expansion and near-field data (TracerField). The FMM over the
+// sources is built and charged once; a step costs only the target side. Lines
+// that stopped drop out of the batch. options.direct evaluates every point by
+// direct summation instead (the slow twin).
 #include <omp.h>
 
-#include <atomic>
+#include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cstdint>
 #include <limits>
 #include <memory>
 
@@ -17,6 +27,7 @@
 #include "soupuv/field/field.h"
 #include "soupuv/field/fmm.h"
 #include "soupuv/field/sources.h"
+#include "soupuv/field/tracer_field.h"
 #include "soupuv/field/triangle_integrals.h"
 
 namespace soupuv::field {
@@ -33,12 +44,113 @@ std::vector<TraceSeed> corner_seeds(const Soup& soup) {
   return seeds;
 }
 
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+// Field at a batch of points: E[i] (overwritten) and, when `nearest` is given,
+// the distance to the nearest near-rule triangle. `leaf` caches each point's
+// target leaf between calls (a point usually stays in or near its leaf).
+class BatchField {
+ public:
+  BatchField(const SourceGeometry& src, const std::vector<double>& charges, const TraceOptions& o,
+             Box3 region, int threads)
+      : src_(src), charges_(charges), direct_(o.direct), threads_(threads) {
+    if (direct_) return;
+    FmmOptions fo;
+    fo.order = o.fmm_order;
+    fo.theta = o.fmm_theta;
+    fo.threads = threads;
+    fo.leaf_size = o.fmm_leaf_size;
+    fmm_ = std::make_unique<Fmm>(src, fo, region);
+    fmm_->set_charges(charges);
+    tracer_ = std::make_unique<TracerField>(*fmm_);
+  }
+
+  void evaluate(const std::vector<Vec3>& x, std::vector<int>& leaf, std::vector<Vec3>& E,
+                std::vector<double>* nearest) {
+    const long n = static_cast<long>(x.size());
+    E.assign(n, Vec3{0, 0, 0});
+    if (nearest) nearest->assign(n, std::numeric_limits<double>::infinity());
+    if (direct_) return evaluate_direct(x, E, nearest);
+#pragma omp parallel for num_threads(threads_) schedule(static)
+    for (long i = 0; i < n; ++i) leaf[i] = tracer_->locate(x[i], leaf[i]);
+    // Sort by leaf (key: leaf in the high bits, point in the low) and cut the
+    // runs into chunks small enough to balance the threads.
+    keys_.resize(n);
+    for (long i = 0; i < n; ++i)
+      keys_[i] = (static_cast<uint64_t>(static_cast<uint32_t>(leaf[i] + 1)) << 32) | static_cast<uint32_t>(i);
+    std::sort(keys_.begin(), keys_.end());
+    constexpr long kChunk = 32;
+    chunks_.clear();
+    for (long s = 0; s < n;) {
+      long e = s + 1;
+      while (e < n && e - s < kChunk && (keys_[e] >> 32) == (keys_[s] >> 32)) ++e;
+      chunks_.push_back({s, e});
+      s = e;
+    }
+    const long nc = static_cast<long>(chunks_.size());
+#pragma omp parallel num_threads(threads_)
+    {
+      std::vector<Vec3> xs, es;
+      std::vector<double> ds;
+#pragma omp for schedule(dynamic, 4)
+      for (long c = 0; c < nc; ++c) {
+        const auto [s, e] = chunks_[c];
+        const int cnt = static_cast<int>(e - s);
+        xs.resize(cnt);
+        es.assign(cnt, Vec3{0, 0, 0});
+        ds.resize(cnt);
+        for (int k = 0; k < cnt; ++k) xs[k] = x[keys_[s + k] & 0xffffffffu];
+        const int lf = static_cast<int>(keys_[s] >> 32) - 1;
+        tracer_->field(lf, xs.data(), cnt, es.data(), nearest ? ds.data() : nullptr);
+        for (int k = 0; k < cnt; ++k) {
+          const size_t i = keys_[s + k] & 0xffffffffu;
+          E[i] = es[k];
+          if (nearest) (*nearest)[i] = ds[k];
+        }
+      }
+    }
+  }
+
+ private:
+  void evaluate_direct(const std::vector<Vec3>& x, std::vector<Vec3>& E, std::vector<double>* nearest) const {
+    const long n = static_cast<long>(x.size());
+#pragma omp parallel for num_threads(threads_) schedule(dynamic, 4)
+    for (long i = 0; i < n; ++i) {
+      Vec3 e{0, 0, 0};
+      double best = std::numeric_limits<double>::infinity();
+      for (size_t j = 0; j < src_.size(); ++j) {
+        Vec3 ej{0, 0, 0};
+        unit_potential_field(src_, j, x[i], nullptr, &ej);
+        e += charges_[j] * ej;
+        if (nearest && src_.area[j] > 0 && src_.is_near(j, x[i]))
+          best = std::min(best, point_triangle_distance(src_.a[j], src_.b[j], src_.c[j], x[i]));
+      }
+      E[i] = e;
+      if (nearest) (*nearest)[i] = best;
+    }
+  }
+
+  const SourceGeometry& src_;
+  const std::vector<double>& charges_;
+  bool direct_;
+  int threads_;
+  std::unique_ptr<Fmm> fmm_;
+  std::unique_ptr<TracerField> tracer_;
+  std::vector<uint64_t> keys_;
+  std::vector<std::pair<long, long>> chunks_;
+};
+
+}  // namespace
+
 FieldLines trace_field_lines(const ChargeResult& charges, const std::vector<TraceSeed>& seeds,
                              const TraceOptions& options, Progress& progress, TraceStats* stats) {
-  using Clock = std::chrono::steady_clock;
   auto t0 = Clock::now();
   if (charges.charges.size() != charges.triangles.size())
     throw Error(ErrorCode::invalid_input, "trace: charges do not match the source triangles");
+  if (seeds.size() >= (size_t{1} << 32))
+    throw Error(ErrorCode::limit_exceeded, "trace: too many seeds");
   SourceGeometry src = make_sources(charges.positions, charges.triangles, charges.quadrature_degree);
   Box3 box;
   double edge_sum = 0;
@@ -52,118 +164,121 @@ FieldLines trace_field_lines(const ChargeResult& charges, const std::vector<Trac
   const double eps = options.start_offset > 0 ? options.start_offset : 1e-3 * edge_sum / (3.0 * src.size());
   const double stop_radius = options.stop_radius > 0 ? options.stop_radius : diag;  // twice the half diagonal
   const double stalled_field = 1e-9 / (diag * diag);  // total charge is 1
+  const int nth = options.threads > 0 ? options.threads : omp_get_max_threads();
+  const bool midpoint = options.integrator == TraceOptions::Integrator::midpoint;
 
   Box3 region;
   region.add(center - Vec3{stop_radius, stop_radius, stop_radius});
   region.add(center + Vec3{stop_radius, stop_radius, stop_radius});
-  FmmOptions fo;
-  fo.order = options.fmm_order;
-  fo.theta = options.fmm_theta;
-  fo.threads = options.threads;
-  fo.leaf_size = options.fmm_leaf_size;
-  std::unique_ptr<Fmm> fmm;
-  if (!options.direct) {
-    fmm = std::make_unique<Fmm>(src, fo, region);
-    fmm->set_charges(charges.charges);
-  }
-  // The evaluator a step calls: the FMM, or direct summation over every source.
-  auto field_at = [&](Vec3 x, Vec3* E, double* nearest) {
-    if (!options.direct) {
-      fmm->evaluate(x, nullptr, E, nearest);
-      return;
-    }
-    Vec3 e{0, 0, 0};
-    double best = std::numeric_limits<double>::infinity();
-    for (size_t j = 0; j < src.size(); ++j) {
-      Vec3 ej{0, 0, 0};
-      unit_potential_field(src, j, x, nullptr, &ej);
-      e += charges.charges[j] * ej;
-      if (nearest && src.is_near(j, x))
-        best = std::min(best, point_triangle_distance(src.a[j], src.b[j], src.c[j], x));
-    }
-    *E += e;
-    if (nearest) *nearest = best;
-  };
-  double build_seconds = std::chrono::duration<double>(Clock::now() - t0).count();
+  BatchField field(src, charges.charges, options, region, nth);
+  const double build_seconds = std::chrono::duration<double>(Clock::now() - t0).count();
   progress.update("trace", 0.05);
 
   const long n = static_cast<long>(seeds.size());
-  std::vector<std::vector<Vec3>> lines(n);
-  std::vector<LineEnd> ends(n, LineEnd::step_limit);
-  const int nth = options.threads > 0 ? options.threads : omp_get_max_threads();
   size_t evaluations = 0, steps_total = 0;
-  const bool midpoint = options.integrator == TraceOptions::Integrator::midpoint;
-  // An exception must not leave an OpenMP region: a cancel is noted and
-  // rethrown after the loop.
-  std::atomic<bool> canceled{false};
-#pragma omp parallel for num_threads(nth) schedule(dynamic, 64) reduction(+ : evaluations, steps_total)
+  std::vector<Vec3> nrm(n);
   for (long s = 0; s < n; ++s) {
-    if (canceled.load(std::memory_order_relaxed)) continue;
-    const TraceSeed& seed = seeds[s];
-    Vec3 nrm = normalized(seed.normal);
-    if (norm2(nrm) == 0) nrm = normalized(seed.position - center);
-    if (norm2(nrm) == 0) nrm = {0, 0, 1};
-    int side = seed.side;
-    Vec3 E_plus, E_minus;
-    if (side == 0) {
+    Vec3 v = normalized(seeds[s].normal);
+    if (norm2(v) == 0) v = normalized(seeds[s].position - center);
+    if (norm2(v) == 0) v = {0, 0, 1};
+    nrm[s] = v;
+  }
+  // Side choice: probe both sides of every side-0 seed in one batch. The
+  // probe moves slightly towards the seed's interior point (see TraceSeed).
+  std::vector<int> side(n);
+  std::vector<long> probe;
+  for (long s = 0; s < n; ++s) {
+    side[s] = seeds[s].side;
+    if (side[s] == 0) probe.push_back(s);
+  }
+  std::vector<Vec3> X, E, Ep;
+  std::vector<int> leaf, leaf_p;
+  if (!probe.empty()) {
+    const size_t np = probe.size();
+    X.resize(2 * np);
+    for (size_t k = 0; k < np; ++k) {
+      const TraceSeed& seed = seeds[probe[k]];
       Vec3 base = seed.position;
       if (seed.has_interior) base = base + 0.05 * (seed.interior - seed.position);
-      field_at(base + eps * nrm, &E_plus, nullptr);
-      field_at(base - eps * nrm, &E_minus, nullptr);
-      evaluations += 2;
-      side = norm2(E_plus) >= norm2(E_minus) ? 1 : -1;
+      X[k] = base + eps * nrm[probe[k]];
+      X[np + k] = base - eps * nrm[probe[k]];
     }
-    std::vector<Vec3>& line = lines[s];
-    line.push_back(seed.position);
-    Vec3 x = seed.position + (side * eps) * nrm;
-    line.push_back(x);
-    LineEnd end = LineEnd::step_limit;
-    for (int k = 0; k < options.max_steps; ++k) {
-      Vec3 E{0, 0, 0};
-      double nearest = std::numeric_limits<double>::infinity();
-      field_at(x, &E, &nearest);
-      ++evaluations;
-      double e = norm(E);
-      if (!(e > stalled_field)) {
-        end = LineEnd::stalled;
-        break;
-      }
-      double h = options.adaptive_step ? std::min(step, std::max(eps, 0.5 * nearest)) : step;
-      if (midpoint) {
-        Vec3 xm = x + (0.5 * h / e) * E;
-        Vec3 Em{0, 0, 0};
-        field_at(xm, &Em, nullptr);
-        ++evaluations;
-        double em = norm(Em);
-        if (!(em > stalled_field)) {
-          end = LineEnd::stalled;
-          break;
-        }
-        x = x + (h / em) * Em;
-      } else {
-        x = x + (h / e) * E;
-      }
-      ++steps_total;
-      if (options.keep_points) line.push_back(x);
-      if (norm(x - center) > stop_radius) {
-        end = LineEnd::escaped;
-        break;
-      }
-    }
-    if (!options.keep_points) line.push_back(x);
-    ends[s] = end;
-    if ((s & 1023) == 0 && omp_get_thread_num() == 0) {
-      try {
-        progress.update("trace", 0.05 + 0.9 * s / double(n));
-      } catch (const Error&) {
-        canceled = true;
-      }
-    }
+    leaf.assign(X.size(), -1);
+    field.evaluate(X, leaf, E, nullptr);
+    evaluations += X.size();
+    for (size_t k = 0; k < np; ++k) side[probe[k]] = norm2(E[k]) >= norm2(E[np + k]) ? 1 : -1;
   }
-  if (canceled) throw Error(ErrorCode::canceled, "field-line tracing canceled");
+
+  std::vector<std::vector<Vec3>> lines(n);
+  std::vector<LineEnd> ends(n, LineEnd::step_limit);
+  std::vector<long> active(n);
+  std::vector<Vec3> pos(n);
+  std::vector<int> line_leaf(n, -1);
+  for (long s = 0; s < n; ++s) {
+    active[s] = s;
+    pos[s] = seeds[s].position + (side[s] * eps) * nrm[s];
+    lines[s].push_back(seeds[s].position);
+    lines[s].push_back(pos[s]);
+  }
+  std::vector<double> nearest;
+  for (int k = 0; k < options.max_steps && !active.empty(); ++k) {
+    progress.update("trace", 0.05 + 0.9 * k / double(options.max_steps));
+    const size_t na = active.size();
+    X.resize(na);
+    leaf.resize(na);
+    for (size_t a = 0; a < na; ++a) {
+      X[a] = pos[active[a]];
+      leaf[a] = line_leaf[active[a]];
+    }
+    field.evaluate(X, leaf, E, options.adaptive_step ? &nearest : nullptr);
+    evaluations += na;
+    // Step lengths; a line whose field vanished stops here (h = 0 marks it).
+    std::vector<double> h(na, 0.0);
+    for (size_t a = 0; a < na; ++a) {
+      line_leaf[active[a]] = leaf[a];
+      if (!(norm(E[a]) > stalled_field)) {
+        ends[active[a]] = LineEnd::stalled;
+        continue;
+      }
+      h[a] = options.adaptive_step ? std::min(step, std::max(eps, 0.5 * nearest[a])) : step;
+    }
+    if (midpoint) {
+      for (size_t a = 0; a < na; ++a)
+        if (h[a] > 0) X[a] = X[a] + (0.5 * h[a] / norm(E[a])) * E[a];
+      leaf_p = leaf;
+      field.evaluate(X, leaf_p, Ep, nullptr);
+      evaluations += na;
+      for (size_t a = 0; a < na; ++a) {
+        if (!(h[a] > 0)) continue;
+        if (!(norm(Ep[a]) > stalled_field)) {
+          ends[active[a]] = LineEnd::stalled;
+          h[a] = 0;
+          continue;
+        }
+        E[a] = Ep[a];
+      }
+    }
+    size_t kept = 0;
+    for (size_t a = 0; a < na; ++a) {
+      const long s = active[a];
+      if (!(h[a] > 0)) continue;  // stalled
+      pos[s] = pos[s] + (h[a] / norm(E[a])) * E[a];
+      ++steps_total;
+      if (options.keep_points) lines[s].push_back(pos[s]);
+      if (norm(pos[s] - center) > stop_radius) {
+        ends[s] = LineEnd::escaped;
+        continue;
+      }
+      active[kept++] = s;
+    }
+    active.resize(kept);
+  }
   FieldLines out;
   size_t total = 0;
-  for (auto& l : lines) total += l.size();
+  for (long s = 0; s < n; ++s) {
+    if (!options.keep_points) lines[s].push_back(pos[s]);
+    total += lines[s].size();
+  }
   out.points.reserve(total);
   out.offsets.reserve(n + 1);
   for (long s = 0; s < n; ++s) {
