@@ -64,7 +64,8 @@ MeshTopology build_topology(const TriMesh& mesh) {
     t.face_edge[twin->face][twin->k] = e;
     t.face_neighbor[h.face][h.k] = twin->face;
     t.face_neighbor[twin->face][twin->k] = h.face;
-    length_sum += norm(mesh.vertices[h.from] - mesh.vertices[h.to]);
+    t.edge_length.push_back(norm(mesh.vertices[h.from] - mesh.vertices[h.to]));
+    length_sum += t.edge_length.back();
   }
   t.mean_edge_length = length_sum / std::max<size_t>(1, t.edge_vertices.size());
 

@@ -21,6 +21,7 @@ struct MeshTopology {
   std::vector<std::array<int, 3>> face_neighbor;  // face across edge k of f
   std::vector<std::array<int, 3>> face_edge;      // edge id of edge k of f
   std::vector<std::array<int, 2>> edge_vertices;  // smaller vertex first
+  std::vector<double> edge_length;
   std::vector<Vec3> face_normal;                  // unit (zero if degenerate)
   std::vector<double> face_area;
   std::vector<Vec3> face_centroid;

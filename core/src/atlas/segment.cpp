@@ -96,27 +96,38 @@ void refit(const MeshTopology& t, const std::vector<int>& face_chart, double com
   }
 }
 
-// Faces that stick out of their chart into a neighbour (two of three
-// neighbours there) move to it when they fit its normal budget: straighter
-// boundaries, shorter seams, charts that pack tighter. Such a face has one
-// neighbour in its own chart, so moving it never disconnects that chart.
-void smooth_boundaries(const MeshTopology& t, const std::vector<char>& seam, double cos_budget,
+// Faces that stick out of their chart (one neighbour in it, an "ear") move
+// across their longest edge when another chart lies there, and faces with two
+// neighbours in one other chart move to it: straighter boundaries, shorter
+// seams, charts that pack tighter. An ear has one neighbour in its own chart,
+// so moving it never disconnects that chart. Where three charts meet, a face
+// is an ear of whichever chart owns it; across its longest edge it sticks out
+// least (on grids of elongated quads the other way makes long spikes).
+void smooth_boundaries(const MeshTopology& t, const std::vector<char>& seam, double cos_loose,
                        const std::vector<ChartProxy>& proxies, std::vector<int>& face_chart) {
   const int nf = static_cast<int>(face_chart.size());
-  for (int pass = 0; pass < 4; ++pass) {
+  for (int pass = 0; pass < 8; ++pass) {
     int moved = 0;
     for (int f = 0; f < nf; ++f) {
-      int own = face_chart[f], other = -1, same = 0, votes = 0;
+      const int own = face_chart[f];
+      int same = 0, majority = -1, longest = -1;
+      double longest_len = -1;
       for (int k = 0; k < 3; ++k) {
-        int g = t.face_neighbor[f][k];
         if (seam[t.face_edge[f][k]]) continue;
-        if (face_chart[g] == own) ++same;
-        else if (other < 0 || face_chart[g] == other) { other = face_chart[g]; ++votes; }
+        int c = face_chart[t.face_neighbor[f][k]];
+        if (c == own) ++same;
+        else if (c == face_chart[t.face_neighbor[f][(k + 1) % 3]] ||
+                 c == face_chart[t.face_neighbor[f][(k + 2) % 3]])
+          majority = c;
+        double len = t.edge_length[t.face_edge[f][k]];
+        if (len > longest_len) { longest_len = len; longest = c; }
       }
-      if (same == 1 && votes == 2 && dot(t.face_normal[f], proxies[other].normal) >= cos_budget) {
-        face_chart[f] = other;
-        ++moved;
-      }
+      if (same != 1) continue;
+      int target = majority >= 0 ? majority : longest;
+      if (target < 0 || target == own || dot(t.face_normal[f], proxies[target].normal) < cos_loose)
+        continue;
+      face_chart[f] = target;
+      ++moved;
     }
     if (!moved) break;
   }
@@ -187,7 +198,12 @@ Segmentation segment_charts(const MeshTopology& t, const std::vector<char>& seam
     flood(t, seam, compactness, seeds, proxies, s.face_chart);
     refit(t, s.face_chart, compactness, seeds, proxies);
   }
-  smooth_boundaries(t, seam, cos_budget, proxies, s.face_chart);
+  // A protruding face sits at the rim of both charts' cones, so the strict
+  // budget kept the spikes of elongated grid triangles (tori); half as much
+  // again is allowed here, and the stretch check after flattening still
+  // splits a chart that does not develop.
+  const double cos_loose = std::cos(std::min(85.0, 1.5 * max_deviation_deg) * M_PI / 180.0);
+  smooth_boundaries(t, seam, cos_loose, proxies, s.face_chart);
   // Renumber densely: a chart can lose every face to the smoothing.
   std::vector<int> remap(seeds.size(), -1);
   s.count = 0;
