@@ -1,4 +1,4 @@
-// build_proxy: offset policy -> narrow band -> marching tetrahedra -> drop inner
+// build_proxy: offset policy -> narrow band -> marching cubes -> drop inner
 // components -> remesh -> Taubin smoothing -> measured checks.
 // See soupuv/proxy/proxy.h.
 #include "soupuv/proxy/proxy.h"
@@ -10,11 +10,12 @@
 #include <cmath>
 #include <optional>
 
-#include "soupuv/cgal/proxy_decimate.h"
 #include "soupuv/cgal/proxy_remesh.h"
 #include "soupuv/cgal/proxy_self_intersections.h"
 #include "soupuv/errors.h"
+#include "soupuv/proxy/collapse_short_edges.h"
 #include "soupuv/proxy/components.h"
+#include "soupuv/proxy/marching_cubes.h"
 #include "soupuv/proxy/marching_tetrahedra.h"
 #include "soupuv/proxy/mesh_checks.h"
 #include "soupuv/proxy/narrow_band.h"
@@ -79,7 +80,7 @@ struct Extraction {
 };
 
 Extraction extract(const TriangleBvh& bvh, const Box3& box, double offset, int resolution,
-                   Progress& progress) {
+                   bool cubes, Progress& progress) {
   Extraction ex;
   Vec3 ext = box.extent();
   ex.cell = std::max({ext.x, ext.y, ext.z}) / resolution;
@@ -89,7 +90,7 @@ Extraction extract(const TriangleBvh& bvh, const Box3& box, double offset, int r
   ex.surface_cells = band.cells.size();
   ex.evaluations = band.distance_evaluations;
   t0 = Clock::now();
-  TriMesh raw = marching_tetrahedra(band, progress);
+  TriMesh raw = cubes ? marching_cubes(band, progress) : marching_tetrahedra(band, progress);
   band = NarrowBand{};
   ex.raw_triangles = raw.faces.size();
   Components comps = find_components(raw);
@@ -177,6 +178,7 @@ nlohmann::json ProxyResult::diagnostics() const {
       {"triangles", triangles},
       {"vertices", vertices},
       {"raw_triangles", raw_triangles},
+      {"collapsed_triangles", collapsed_triangles},
       {"surface_cells", surface_cells},
       {"distance_evaluations", distance_evaluations},
       {"offset", offset},
@@ -240,7 +242,7 @@ ProxyResult build_proxy(const Soup& soup, const ProxyOptions& options, Progress&
                            std::to_string(nyquist_resolution(longest, offset)) +
                            " for this offset: the level set may cut into the soup");
 
-    Extraction ex = extract(soup_bvh, box, offset, r.resolution, progress);
+    Extraction ex = extract(soup_bvh, box, offset, r.resolution, options.marching_cubes, progress);
     r.cell_size = ex.cell;
     r.raw_triangles = ex.raw_triangles;
     r.surface_cells = ex.surface_cells;
@@ -256,14 +258,18 @@ ProxyResult build_proxy(const Soup& soup, const ProxyOptions& options, Progress&
 
     TriMesh mesh = ex.mesh;
     auto t0 = Clock::now();
-    if (options.remesh && options.remesh_iterations > 0 && !mesh.faces.empty()) {
+    if (options.remesh && !mesh.faces.empty()) {
       progress.update("proxy: remeshing", 0);
       double target = options.target_edge_length > 0 ? options.target_edge_length : offset;
-      // Collapse first (cheap per edge), then remesh the few that remain.
-      mesh = cgal::collapse_short_edges(mesh, 0.6 * target);
+      // Our own collapse first (cheap per edge, millions of tiny triangles),
+      // then CGAL's isotropic remeshing of the few that remain.
+      CollapseStats stats;
+      mesh = collapse_short_edges(mesh, 0.6 * target, 1.5 * target, &stats);
       r.seconds_decimate = since(t0);
+      r.collapsed_triangles = mesh.faces.size();
       progress.update("proxy: remeshing", 0.5);
-      mesh = cgal::isotropic_remesh(mesh, target, options.remesh_iterations);
+      if (options.remesh_iterations > 0)
+        mesh = cgal::isotropic_remesh(mesh, target, options.remesh_iterations);
     }
     r.seconds_remesh = since(t0);
     t0 = Clock::now();

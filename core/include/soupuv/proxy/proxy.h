@@ -38,8 +38,14 @@ struct ProxyOptions {
   int min_resolution = 16;
   int max_resolution = 512;
 
-  // Remeshing to a target edge length: short-edge collapse (CGAL SMS), then
-  // isotropic remeshing (CGAL PMP); 0 = auto
+  // Level-set extraction: marching cubes with the asymptotic decider (about 2
+  // triangles per cell), or marching tetrahedra (about 6; kept as the
+  // simpler, table-free reference).
+  bool marching_cubes = true;
+
+  // Remeshing to a target edge length: our short-edge collapse (link
+  // condition, no flips), then remesh_iterations of CGAL PMP isotropic
+  // remeshing (0 = collapse only); target 0 = auto
   // (the offset o: the offset surface bends no tighter than radius o on its
   // convex parts). Verified afterwards; undone with a warning if it broke a check.
   bool remesh = true;
@@ -74,7 +80,8 @@ struct ProxyResult {
   bool self_intersections = false;
   size_t triangles = 0;
   size_t vertices = 0;
-  size_t raw_triangles = 0;      // straight out of marching tetrahedra
+  size_t raw_triangles = 0;      // straight out of marching cubes / tetrahedra
+  size_t collapsed_triangles = 0;  // after our short-edge collapse, before CGAL remeshing
   size_t surface_cells = 0;      // leaf cells of the narrow band
   size_t distance_evaluations = 0;
   double offset = 0;             // absolute offset used
@@ -85,7 +92,7 @@ struct ProxyResult {
   double seconds = 0;
   double seconds_grid = 0, seconds_extract = 0, seconds_remesh = 0,
          seconds_smooth = 0, seconds_checks = 0;
-  double seconds_decimate = 0;   // the short-edge collapse part of seconds_remesh
+  double seconds_decimate = 0;   // the short-edge collapse part of seconds_remesh (ours, not CGAL's)
   std::vector<std::string> warnings;
 
   bool ok() const {
