@@ -70,17 +70,20 @@ std::vector<Vec3> used_positions(const Soup& soup) {
   return out;
 }
 
-// One extraction at a fixed offset and resolution, outer components only.
+// One extraction at a fixed offset and resolution, coarsened by our edge
+// collapse when `collapse_to` > 0, outer components only. Collapsing before
+// the component split keeps the split (and its BVHs) small; the collapse
+// keeps every component's topology, so the split is the same.
 struct Extraction {
   TriMesh mesh;
   int outer = 0, inner = 0;
-  size_t raw_triangles = 0, surface_cells = 0, evaluations = 0;
+  size_t raw_triangles = 0, collapsed_triangles = 0, surface_cells = 0, evaluations = 0;
   double cell = 0;
-  double seconds_grid = 0, seconds_extract = 0;
+  double seconds_grid = 0, seconds_extract = 0, seconds_decimate = 0;
 };
 
 Extraction extract(const TriangleBvh& bvh, const Box3& box, double offset, int resolution,
-                   bool cubes, Progress& progress) {
+                   bool cubes, double collapse_to, Progress& progress) {
   Extraction ex;
   Vec3 ext = box.extent();
   ex.cell = std::max({ext.x, ext.y, ext.z}) / resolution;
@@ -93,12 +96,23 @@ Extraction extract(const TriangleBvh& bvh, const Box3& box, double offset, int r
   TriMesh raw = cubes ? marching_cubes(band, progress) : marching_tetrahedra(band, progress);
   band = NarrowBand{};
   ex.raw_triangles = raw.faces.size();
+  ex.seconds_extract = since(t0);
+  if (collapse_to > 0) {
+    t0 = Clock::now();
+    progress.update("proxy: collapsing short edges", 0);
+    // Stop at 0.6 of the target and allow 1.5 of it: CGAL's remeshing then
+    // only splits or collapses a few edges to reach the target.
+    raw = collapse_short_edges(raw, 0.6 * collapse_to, 1.5 * collapse_to);
+    ex.collapsed_triangles = raw.faces.size();
+    ex.seconds_decimate = since(t0);
+  }
+  t0 = Clock::now();
   Components comps = find_components(raw);
   std::vector<char> keep(raw.faces.size());
   for (size_t f = 0; f < raw.faces.size(); ++f) keep[f] = !comps.inner[comps.face_component[f]];
   for (int c = 0; c < comps.count; ++c) (comps.inner[c] ? ex.inner : ex.outer)++;
   ex.mesh = keep_faces(raw, keep);
-  ex.seconds_extract = since(t0);
+  ex.seconds_extract += since(t0);
   return ex;
 }
 
@@ -242,7 +256,9 @@ ProxyResult build_proxy(const Soup& soup, const ProxyOptions& options, Progress&
                            std::to_string(nyquist_resolution(longest, offset)) +
                            " for this offset: the level set may cut into the soup");
 
-    Extraction ex = extract(soup_bvh, box, offset, r.resolution, options.marching_cubes, progress);
+    const double target = options.target_edge_length > 0 ? options.target_edge_length : offset;
+    Extraction ex = extract(soup_bvh, box, offset, r.resolution, options.marching_cubes,
+                            options.remesh ? target : 0.0, progress);
     r.cell_size = ex.cell;
     r.raw_triangles = ex.raw_triangles;
     r.surface_cells = ex.surface_cells;
@@ -250,6 +266,8 @@ ProxyResult build_proxy(const Soup& soup, const ProxyOptions& options, Progress&
     r.inner_components = ex.inner;
     r.seconds_grid = ex.seconds_grid;
     r.seconds_extract = ex.seconds_extract;
+    r.seconds_decimate = ex.seconds_decimate;
+    r.collapsed_triangles = ex.collapsed_triangles;
     // The ladder wants one outer component; anything else: next rung.
     if (options.offset_mode == OffsetMode::automatic && ex.outer != 1 && !last) {
       best = std::move(r);
@@ -258,20 +276,13 @@ ProxyResult build_proxy(const Soup& soup, const ProxyOptions& options, Progress&
 
     TriMesh mesh = ex.mesh;
     auto t0 = Clock::now();
-    if (options.remesh && !mesh.faces.empty()) {
+    // The collapse (part of the extraction) already brought the mesh near
+    // the target; CGAL's isotropic remeshing evens it out.
+    if (options.remesh && options.remesh_iterations > 0 && !mesh.faces.empty()) {
       progress.update("proxy: remeshing", 0);
-      double target = options.target_edge_length > 0 ? options.target_edge_length : offset;
-      // Our own collapse first (cheap per edge, millions of tiny triangles),
-      // then CGAL's isotropic remeshing of the few that remain.
-      CollapseStats stats;
-      mesh = collapse_short_edges(mesh, 0.6 * target, 1.5 * target, &stats);
-      r.seconds_decimate = since(t0);
-      r.collapsed_triangles = mesh.faces.size();
-      progress.update("proxy: remeshing", 0.5);
-      if (options.remesh_iterations > 0)
-        mesh = cgal::isotropic_remesh(mesh, target, options.remesh_iterations);
+      mesh = cgal::isotropic_remesh(mesh, target, options.remesh_iterations);
     }
-    r.seconds_remesh = since(t0);
+    r.seconds_remesh = since(t0) + ex.seconds_decimate;
     t0 = Clock::now();
     progress.update("proxy: smoothing", 0);
     taubin_smooth(mesh, options.smoothing_iterations);
@@ -280,14 +291,14 @@ ProxyResult build_proxy(const Soup& soup, const ProxyOptions& options, Progress&
     t0 = Clock::now();
     measure(mesh, soup_bvh, soup_points, offset, options.check_self_intersections, progress, r);
     if (!acceptable(r) && (options.remesh || options.smoothing_iterations > 0)) {
-      // Remeshing and smoothing are improvements, not requirements: when they
-      // broke a check, fall back to the extracted level set and measure again.
+      // CGAL remeshing and smoothing are improvements, not requirements: when
+      // they broke a check, fall back to the (collapsed) level set and measure again.
       ProxyResult raw = r;
       raw.warnings.push_back("remeshed/smoothed proxy failed a check (closed " +
                              std::to_string(r.closed) + ", manifold " + std::to_string(r.manifold) +
                              ", encloses " + std::to_string(r.encloses) + ", self-intersections " +
                              std::to_string(r.self_intersections) + ", min distance ratio " +
-                             std::to_string(r.min_distance_ratio) + "); kept the unsmoothed level set");
+                             std::to_string(r.min_distance_ratio) + "); kept the collapsed level set");
       mesh = ex.mesh;
       measure(mesh, soup_bvh, soup_points, offset, options.check_self_intersections, progress, raw);
       r = std::move(raw);
