@@ -6,6 +6,7 @@
 #include <filesystem>
 #include <fstream>
 
+#include "soupuv/server/cache_prune.h"
 #include "soupuv/server/log.h"
 #include "soupuv/server/problem.h"
 
@@ -62,7 +63,7 @@ App::App(Config config) {
   ctx_.config = std::move(config);
   const Config& c = ctx_.config;
   ctx_.data = std::make_unique<DataDir>(fs::absolute(c.data_dir));
-  ctx_.store = open_sqlite_job_store(ctx_.data->database().string());
+  ctx_.store = with_memory_snapshot(open_sqlite_job_store(ctx_.data->database().string()));
   if (!c.tokens_file.empty()) ctx_.tokens = TokenSet::load(c.tokens_file);
   ctx_.worker_bin = find_worker_binary(c.worker_bin);
   if (!c.worker_bin.empty() && ctx_.worker_bin.empty())
@@ -160,6 +161,10 @@ void App::sweep_loop() {
         ctx_.store->remove(id);
         log::info("job expired", {{"job", id}});
       }
+      auto pruned = prune_cache(ctx_.data->cache(), ctx_.config.cache_size_mb << 20);
+      if (pruned.files_removed > 0)
+        log::info("field cache pruned", {{"files", pruned.files_removed}, {"bytes_before", pruned.bytes_before},
+                                         {"bytes_after", pruned.bytes_after}});
       // Uploads interrupted mid-stream (client gone, server killed).
       std::error_code ec;
       for (const auto& e : fs::directory_iterator(ctx_.data->uploads_tmp(), ec)) {

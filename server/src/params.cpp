@@ -11,7 +11,7 @@
 namespace soupuv::server {
 namespace {
 
-enum class Kind { boolean, integer, number, choice };
+enum class Kind { boolean, integer, number, choice, polylines };
 
 struct ParamSpec {
   const char* name;   // API name in params JSON
@@ -27,7 +27,8 @@ struct ParamSpec {
 // refused with a clear reason until the CLI gains them).
 const std::vector<ParamSpec>& specs() {
   static const std::vector<ParamSpec> table = {
-      {"method", "--method", Kind::choice, "box", 0, 0, {"box", "field"}},
+      // field is the product's method (the CLI default too); box is the baseline.
+      {"method", "--method", Kind::choice, "field", 0, 0, {"box", "field"}},
       {"offset", "--offset", Kind::number, nullptr, 0, 1},
       {"resolution", "--resolution", Kind::integer, nullptr, 8, 4096},
       {"solver", "--solver", Kind::choice, nullptr, 0, 0, {"robin-hood", "krylov"}},
@@ -39,6 +40,9 @@ const std::vector<ParamSpec>& specs() {
       {"draco", "--draco", Kind::boolean, false},
       // Special: the scheduler passes --debug-prefix inside the job's work directory.
       {"debug_outputs", "--debug-prefix", Kind::boolean, false},
+      // Special: the scheduler writes the polylines to a file in the job's work
+      // directory and passes --seam-hints FILE. Limits: kMaxSeamHint* (params.h).
+      {"seam_hints", "--seam-hints", Kind::polylines, nullptr, 0, 0},
   };
   return table;
 }
@@ -49,8 +53,31 @@ std::string type_name(Kind k) {
     case Kind::integer: return "integer";
     case Kind::number: return "number";
     case Kind::choice: return "string";
+    case Kind::polylines: return "array";
   }
   return "string";
+}
+
+// Seam hints: [[[x,y,z], ...], ...]. Bounded so a request cannot make the
+// stored params (and the worker's hint file) arbitrarily large; the numbers
+// must be finite (a JSON parser may turn 1e999 into infinity).
+ParamError check_polylines(const std::string& name, const nlohmann::json& v) {
+  const std::string shape = name + " must be an array of polylines, each an array of 2 or more [x, y, z] points";
+  if (!v.is_array()) return {shape};
+  if (v.size() > kMaxSeamHintLines) return {name + " has more than " + std::to_string(kMaxSeamHintLines) + " polylines"};
+  size_t points = 0;
+  for (const auto& line : v) {
+    if (!line.is_array() || line.size() < 2) return {shape};
+    points += line.size();
+    if (points > kMaxSeamHintPoints)
+      return {name + " has more than " + std::to_string(kMaxSeamHintPoints) + " points in all"};
+    for (const auto& p : line) {
+      if (!p.is_array() || p.size() != 3) return {shape};
+      for (const auto& x : p)
+        if (!x.is_number() || !std::isfinite(x.get<double>())) return {name + " coordinates must be finite numbers"};
+    }
+  }
+  return {};
 }
 
 }  // namespace
@@ -115,6 +142,9 @@ ParamError validate_params(const nlohmann::json& in, const WorkerCapabilities& c
           return {name + " must be a number in [" + nlohmann::json(s.lo).dump() + ", " +
                   nlohmann::json(s.hi).dump() + "]"};
         break;
+      case Kind::polylines:
+        if (auto e = check_polylines(name, v)) return e;
+        break;
       case Kind::choice: {
         bool ok = v.is_string();
         bool listed = false;
@@ -146,6 +176,7 @@ std::vector<std::string> params_to_flags(const nlohmann::json& params, const Wor
       if (v.get<bool>() && std::string(s.name) != "debug_outputs") flags.push_back(s.flag);
       continue;
     }
+    if (s.kind == Kind::polylines) continue;  // a file, written by the scheduler
     flags.push_back(s.flag);
     flags.push_back(v.is_string() ? v.get<std::string>() : v.dump());
   }
@@ -163,6 +194,10 @@ nlohmann::json describe_params(const WorkerCapabilities& caps) {
       if (s.power_of_two) d["power_of_two"] = true;
     }
     if (s.kind == Kind::choice) d["values"] = s.values;
+    if (s.kind == Kind::polylines) {
+      d["max_polylines"] = kMaxSeamHintLines;
+      d["max_points"] = kMaxSeamHintPoints;
+    }
     out.push_back(d);
   }
   return out;

@@ -91,7 +91,7 @@ std::optional<Job> job_or_404(ServerContext& ctx, const httplib::Request& req, h
 }
 
 // Query parameters -> params JSON: `params=<json>` and/or one key per parameter
-// (numbers and booleans parsed, anything else a string).
+// (numbers, booleans and arrays parsed, anything else a string).
 std::optional<nlohmann::json> params_from_query(const httplib::Request& req, std::string& error) {
   nlohmann::json p = nlohmann::json::object();
   if (req.has_param("params")) {
@@ -104,7 +104,7 @@ std::optional<nlohmann::json> params_from_query(const httplib::Request& req, std
   for (const auto& [k, v] : req.params) {
     if (k == "params") continue;
     auto parsed = nlohmann::json::parse(v, nullptr, false);
-    p[k] = (parsed.is_number() || parsed.is_boolean()) ? parsed : nlohmann::json(v);
+    p[k] = (parsed.is_number() || parsed.is_boolean() || parsed.is_array()) ? parsed : nlohmann::json(v);
   }
   return p;
 }
@@ -159,6 +159,17 @@ void submit_job(ServerContext& ctx, const httplib::Request& req, httplib::Respon
                 const httplib::ContentReader& content_reader) {
   if (ctx.worker_bin.empty()) return set_problem(res, 503, "unavailable", "no worker binary is installed");
   if (!ctx.scheduler->has_room()) return queue_full(res, ctx, 429);
+  // Head-of-line guard: uploads hold an HTTP thread for seconds (body, fsync,
+  // inspect); capped below the pool size, polls and health checks always find
+  // a free thread.
+  struct UploadSlot {
+    std::atomic<int>& n;
+    ~UploadSlot() { --n; }
+  } slot{ctx.uploads_in_flight};
+  if (ctx.uploads_in_flight.fetch_add(1) >= ctx.config.upload_slots()) {
+    res.set_header("Retry-After", "1");
+    return set_problem(res, 503, "uploads-busy", "too many uploads in progress; retry after the indicated seconds");
+  }
   const std::string key = req.get_header_value("Idempotency-Key");
   if (req.has_header("Idempotency-Key") && !valid_idempotency_key(key))
     return set_problem(res, 400, "bad-idempotency-key", "Idempotency-Key must be 1-128 characters of [A-Za-z0-9-_.:]");
@@ -421,6 +432,8 @@ void register_routes(httplib::Server& http, ServerContext& ctx) {
   http.set_logger([&ctx](const httplib::Request& req, const httplib::Response& res) {
     ctx.metrics.http_request(res.status);
     if (req.path == "/healthz" || req.path == "/readyz" || req.path == "/metrics") return;
+    // Status polls are the bulk of the traffic and say nothing new; failures still log.
+    if (req.method == "GET" && res.status == 200 && req.path.size() == 36 && req.path.rfind("/v1/jobs/", 0) == 0) return;
     // Never raw header values: method, a bounded path, status only.
     log::info("http", {{"method", req.method.substr(0, 10)}, {"path", req.path.substr(0, 200)}, {"status", res.status}});
   });

@@ -220,8 +220,13 @@ void Scheduler::run_job(const std::string& id) {
   add("--uv-layout", (work / "uv-layout.png").string());
   add("--threads", std::to_string(config_.threads_per_job()));
   add("--cache-dir", data_.cache().string());
-  add("--cache-size-mb", std::to_string(config_.cache_size_mb));
+  // (The CLI has no disk budget flag: the server prunes cache/ to --cache-size-mb.)
   if (job->params.value("debug_outputs", false)) add("--debug-prefix", (work / "debug").string());
+  // Validated at submit (params.cpp); the CLI reads them from a file.
+  if (job->params.contains("seam_hints") && job->params["seam_hints"].is_array()) {
+    write_file_atomic(work / "seam_hints.json", job->params["seam_hints"].dump());
+    add("--seam-hints", (work / "seam_hints.json").string());
+  }
   for (const char* tex : {"texture.png", "texture.jpg"})
     if (fs::exists(dir / tex)) add("--texture", (dir / tex).string());
   for (auto& f : params_to_flags(job->params, caps_)) argv.push_back(f);

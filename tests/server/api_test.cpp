@@ -1,6 +1,8 @@
-// API v1 over a real socket, with the real soupuv CLI as worker (`--method box`
-// until the field pipeline lands): submit, poll, download, list, idempotency,
-// every refusal as problem+json, the contract against proto/openapi.yaml.
+// API v1 over a real socket, with the real soupuv CLI as worker: submit, poll,
+// download, list, idempotency, every refusal as problem+json, the contract
+// against proto/openapi.yaml. Tests of the server's plumbing ask for
+// `method=box` explicitly (fast; they test the server, not the method); the
+// tests named Field* run the product's default method on a small mesh.
 #include <gtest/gtest.h>
 
 #include <fstream>
@@ -117,7 +119,7 @@ TEST_F(Api, ListPagingAndStateFilter) {
   std::string box = read_bytes(shared_data("gltf/Box.glb"));
   std::set<std::string> ids;
   for (int i = 0; i < 5; ++i) {
-    auto r = submit(c, box, "model/gltf-binary");
+    auto r = submit(c, box, "model/gltf-binary", "?method=box");
     ASSERT_TRUE(r);
     ASSERT_EQ(r->status, 202);
     ids.insert(json::parse(r->body)["id"].get<std::string>());
@@ -149,15 +151,15 @@ TEST_F(Api, ListPagingAndStateFilter) {
 TEST_F(Api, IdempotencyKey) {
   auto c = server_->client();
   std::string box = read_bytes(shared_data("gltf/Box.glb"));
-  auto a = submit(c, box, "model/gltf-binary", "", {{"Idempotency-Key", "order-17"}});
-  auto b = submit(c, box, "model/gltf-binary", "", {{"Idempotency-Key", "order-17"}});
+  auto a = submit(c, box, "model/gltf-binary", "?method=box", {{"Idempotency-Key", "order-17"}});
+  auto b = submit(c, box, "model/gltf-binary", "?method=box", {{"Idempotency-Key", "order-17"}});
   ASSERT_TRUE(a && b);
   ASSERT_EQ(a->status, 202);
   ASSERT_EQ(b->status, 202);
   EXPECT_EQ(json::parse(a->body)["id"], json::parse(b->body)["id"]);
   EXPECT_EQ(b->get_header_value("Idempotent-Replayed"), "true");
   // Same key, another request (other params): 422.
-  expect_problem(submit(c, box, "model/gltf-binary", "?texture_size=64", {{"Idempotency-Key", "order-17"}}), 422);
+  expect_problem(submit(c, box, "model/gltf-binary", "?method=box&texture_size=64", {{"Idempotency-Key", "order-17"}}), 422);
   expect_problem(submit(c, box, "model/gltf-binary", "", {{"Idempotency-Key", "bad key with spaces"}}), 400);
   auto list = json::parse(c.Get("/v1/jobs?limit=100")->body);
   EXPECT_EQ(list["jobs"].size(), 1u) << "a retried submission made a second job";
@@ -170,7 +172,7 @@ TEST_F(Api, BadSharedInputsGiveProblemJsonAndServerKeepsServing) {
     if (name == "README.md") continue;
     std::string ct = e.path().extension() == ".gltf" ? "model/gltf+json"
                      : e.path().extension() == ".drc" ? "application/octet-stream" : "model/gltf-binary";
-    auto r = submit(c, read_bytes(e.path()), ct);
+    auto r = submit(c, read_bytes(e.path()), ct, "?method=box");
     ASSERT_TRUE(r) << name;
     EXPECT_GE(r->status, 400) << name << ": " << r->body;
     EXPECT_LT(r->status, 500) << name << ": " << r->body;
@@ -201,7 +203,6 @@ TEST_F(Api, ErrorPaths) {
   expect_problem(submit(c, box, "text/plain"), 415);
   expect_problem(submit(c, box, "model/gltf-binary", "?method=magic"), 400);
   expect_problem(submit(c, box, "model/gltf-binary", "?steps=0"), 400);  // out of range
-  expect_problem(submit(c, box, "model/gltf-binary", "?seam_hints=1"), 400);  // not offered by the API yet
   // A parameter the worker's CLI lacks is refused, not ignored.
   auto params = json::parse(c.Get("/v1/params")->body)["params"];
   for (const auto& p : params)
@@ -308,7 +309,7 @@ TEST_F(Api, FiftyMegabyteUploadStreamsToDisk) {
   };
   long before = hwm_kb();
   auto c = server_->client();
-  auto r = submit(c, out, "model/gltf-binary", "?texture_size=64");
+  auto r = submit(c, out, "model/gltf-binary", "?method=box&texture_size=64");
   ASSERT_TRUE(r);
   ASSERT_EQ(r->status, 202) << r->body;
   long grown_mb = (hwm_kb() - before) / 1024;
@@ -323,6 +324,7 @@ TEST_F(Api, MultipartWithUserTexture) {
   httplib::MultipartFormDataItems items = {
       {"file", read_bytes(shared_data("gltf/Box.glb")), "box.glb", "model/gltf-binary"},
       {"texture", png, "t.png", "image/png"},
+      {"params", R"({"method":"box"})", "", "application/json"},
   };
   auto r = c.Post("/v1/jobs", items);
   ASSERT_TRUE(r);

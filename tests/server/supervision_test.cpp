@@ -182,7 +182,7 @@ TEST(Recovery, SigkillWithJobsQueuedAndRunningThenEveryJobFinishes) {
     auto c = s.client();
     std::string bunny = read_bytes(shared_data("soups/stanford-bunny-soup.glb"));
     for (int i = 0; i < 4; ++i) {
-      auto r = submit(c, bunny, "model/gltf-binary", "?texture_size=" + std::to_string(64 << i));
+      auto r = submit(c, bunny, "model/gltf-binary", "?method=box&texture_size=" + std::to_string(64 << i));
       ASSERT_TRUE(r);
       ASSERT_EQ(r->status, 202) << r->body;
       ids.push_back(json::parse(r->body)["id"]);

@@ -40,6 +40,7 @@ struct ServerContext {
   std::map<std::string, WebAsset> web;  // URL path -> asset, loaded at start
   std::string openapi_yaml;
   std::atomic<int> validations_running{0};
+  std::atomic<int> uploads_in_flight{0};
 };
 
 class App {

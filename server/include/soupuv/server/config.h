@@ -6,6 +6,7 @@
 // one-line reason. Flag --name maps to env SOUPUV_NAME (dashes -> underscores).
 #pragma once
 
+#include <algorithm>
 #include <cstdint>
 #include <functional>
 #include <optional>
@@ -27,15 +28,20 @@ struct Config {
   int result_ttl_s = 86400;             // finished jobs and their files
   int64_t worker_memory_mb = 8192;      // RLIMIT_AS per worker
   std::string tokens_file;              // empty: no authentication
-  int64_t cache_size_mb = 1024;         // field cache on disk (passed to workers)
+  int64_t cache_size_mb = 1024;         // budget of DATA/cache/, the workers' shared field cache (pruned by the sweeper)
   std::vector<std::string> cors_origins;  // exact origins allowed; empty: none
   std::string worker_bin;               // soupuv CLI; empty: next to the server
   std::string web_dir;                  // upload page; empty: next to the server
-  int http_threads = 16;                // I/O threads (uploads, downloads, polls)
+  int http_threads = 32;                // I/O threads (uploads, downloads, polls)
+  // Uploads in flight (body streaming + inspect) at once; more get 503 +
+  // Retry-After before their body is read. 0: half the HTTP threads, so the
+  // other half always answers polls and health checks without queueing.
+  int max_uploads = 0;
   bool validate_uploads = true;         // run `soupuv inspect` before queueing
   std::string log_level = "info";
 
   int threads_per_job() const;
+  int upload_slots() const { return max_uploads > 0 ? max_uploads : std::max(1, http_threads / 2); }
 };
 
 class ConfigError : public std::runtime_error {

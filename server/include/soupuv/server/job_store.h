@@ -47,4 +47,9 @@ class JobStore {
 // Opens (creating if needed) the SQLite database at `path`. Throws std::runtime_error.
 std::unique_ptr<JobStore> open_sqlite_job_store(const std::string& path);
 
+// Wraps a durable store with an in-memory copy of every job: get() and
+// count_by_state() are answered from memory (status polls never wait for a
+// database write); writes go to `durable` first (snapshot_job_store.cpp).
+std::unique_ptr<JobStore> with_memory_snapshot(std::unique_ptr<JobStore> durable);
+
 }  // namespace soupuv::server

@@ -11,6 +11,10 @@
 
 namespace soupuv::server {
 
+// Limits on the seam_hints parameter (polylines; points over all polylines).
+constexpr size_t kMaxSeamHintLines = 256;
+constexpr size_t kMaxSeamHintPoints = 20000;
+
 struct ParamError {
   std::string detail;  // empty: valid
   explicit operator bool() const { return !detail.empty(); }
