@@ -38,6 +38,10 @@ NarrowBand build_narrow_band(const TriangleBvh& bvh, const Box3& box, double off
   for (int k = 0; k * top < band.dims[2]; ++k)
     for (int j = 0; j * top < band.dims[1]; ++j)
       for (int i = 0; i * top < band.dims[0]; ++i) current.push_back(grid_key(i, j, k));
+  // Closest soup triangle found for each cell's center, handed to its
+  // children as a warm start (TriangleBvh::distance): nearby points mostly
+  // share their closest triangle, so the search starts with a tight bound.
+  std::vector<uint32_t> hint(current.size(), UINT32_MAX);
 
   size_t evaluations = 0;
   // Refine down to cells of size 2h by the Lipschitz test on their centers;
@@ -55,11 +59,12 @@ NarrowBand build_narrow_band(const TriangleBvh& bvh, const Box3& box, double off
       // distance() answers exactly inside (lo, hi), below lo or == hi outside
       // it, so the test must be strict at both ends.
       double lo = offset - half_diagonal, hi = offset + half_diagonal;
-      double d = bvh.distance(center, lo, hi);
+      double d = bvh.distance(center, lo, hi, &hint[n]);
       keep[n] = d > lo && d < hi;
     }
     evaluations += current.size();
     std::vector<uint64_t> next;
+    std::vector<uint32_t> next_hint;
     for (size_t n = 0; n < current.size(); ++n) {
       if (!keep[n]) continue;
       auto c = grid_coords(current[n]);
@@ -70,30 +75,41 @@ NarrowBand build_narrow_band(const TriangleBvh& bvh, const Box3& box, double off
             int child_size = 1 << (level - 1);
             if (i * child_size < band.dims[0] && j * child_size < band.dims[1] &&
                 k * child_size < band.dims[2])
+            {
               next.push_back(grid_key(i, j, k));
+              next_hint.push_back(hint[n]);
+            }
           }
     }
     current.swap(next);
+    hint.swap(next_hint);
   }
 
-  // Corners of the candidate leaves. Each lies within 2 sqrt(3) h of the level
-  // set, so a band query of o +- 4h gives exact values wherever an edge
-  // changes sign (1-Lipschitz); values outside the band only need their sign.
-  band.corner_keys.reserve(current.size() * 3);
-  for (uint64_t key : current) {
-    auto c = grid_coords(key);
+  // Corners of the candidate leaves, each with its cell's warm start. A
+  // corner of a cell the level set crosses is within sqrt(3) h of it, so a
+  // band query of o +- 1.75 h gives exact values wherever they are used
+  // (1-Lipschitz); values outside the band only need their sign.
+  std::vector<std::pair<uint64_t, uint32_t>> corners;
+  corners.reserve(current.size() * 8);
+  for (size_t n = 0; n < current.size(); ++n) {
+    auto c = grid_coords(current[n]);
     for (int v = 0; v < 8; ++v)
-      band.corner_keys.push_back(grid_key(c[0] + (v & 1), c[1] + ((v >> 1) & 1), c[2] + (v >> 2)));
+      corners.push_back({grid_key(c[0] + (v & 1), c[1] + ((v >> 1) & 1), c[2] + (v >> 2)), hint[n]});
   }
-  std::sort(band.corner_keys.begin(), band.corner_keys.end());
-  band.corner_keys.erase(std::unique(band.corner_keys.begin(), band.corner_keys.end()),
-                         band.corner_keys.end());
+  std::sort(corners.begin(), corners.end());
+  corners.erase(std::unique(corners.begin(), corners.end(),
+                            [](const auto& a, const auto& b) { return a.first == b.first; }),
+                corners.end());
+  band.corner_keys.resize(corners.size());
+  for (size_t n = 0; n < corners.size(); ++n) band.corner_keys[n] = corners[n].first;
   band.corner_values.resize(band.corner_keys.size());
   progress.update("proxy: narrow band", double(levels) / (levels + 1));
+  const double band_width = 1.75 * cell;  // > sqrt(3) h
 #pragma omp parallel for schedule(dynamic, 1024)
-  for (long n = 0; n < long(band.corner_keys.size()); ++n) {
-    double d = bvh.distance(band.corner_position(band.corner_keys[n]), offset - 4 * cell,
-                            offset + 4 * cell);
+  for (long n = 0; n < long(corners.size()); ++n) {
+    uint32_t warm = corners[n].second;
+    double d = bvh.distance(band.corner_position(corners[n].first), offset - band_width,
+                            offset + band_width, &warm);
     band.corner_values[n] = d - offset;
   }
   // Leaves: the candidates whose corners change sign; the others hold no

@@ -132,10 +132,25 @@ uint32_t TriangleBvh::build_node(uint32_t first, uint32_t count, int depth) {
   return index;
 }
 
-double TriangleBvh::distance(Vec3 p, double lo, double hi) const {
+double TriangleBvh::distance(Vec3 p, double lo, double hi, uint32_t* nearest) const {
   if (nodes_.empty()) return hi;
   double best2 = hi * hi;  // INFINITY stays INFINITY
   double lo2 = lo > 0 ? lo * lo : -1.0;  // lo <= 0: never stop early
+  uint32_t best = nearest ? *nearest : UINT32_MAX;
+  auto done = [&](double result) {
+    if (nearest && best < tris_.size()) *nearest = best;
+    return result;
+  };
+  if (best < tris_.size()) {
+    const auto& t = tris_[best];
+    double d2 = point_triangle_distance2(p, t[0], t[1], t[2]);
+    if (d2 < best2) {
+      best2 = d2;
+      if (best2 < lo2) return done(std::sqrt(best2));
+    } else {
+      best = UINT32_MAX;
+    }
+  }
   uint32_t stack[128];
   int top = 0;
   stack[top++] = 0;
@@ -148,7 +163,8 @@ double TriangleBvh::distance(Vec3 p, double lo, double hi) const {
         double d2 = point_triangle_distance2(p, t[0], t[1], t[2]);
         if (d2 < best2) {
           best2 = d2;
-          if (best2 < lo2) return std::sqrt(best2);
+          best = i;
+          if (best2 < lo2) return done(std::sqrt(best2));
         }
       }
       continue;
@@ -164,7 +180,7 @@ double TriangleBvh::distance(Vec3 p, double lo, double hi) const {
       if (dr < best2) stack[top++] = right;
     }
   }
-  return best2 < hi * hi ? std::sqrt(best2) : hi;
+  return done(best2 < hi * hi ? std::sqrt(best2) : hi);
 }
 
 RayParity TriangleBvh::ray_parity(Vec3 p, Vec3 dir) const {

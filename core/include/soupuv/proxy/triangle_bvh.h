@@ -38,7 +38,11 @@ class TriangleBvh {
   // distance when it lies in [lo, hi]; some value < lo (an upper bound of the
   // distance) as soon as one triangle closer than lo is found; hi when no
   // triangle is closer than hi. lo = 0, hi = INFINITY gives the exact distance.
-  double distance(Vec3 p, double lo = 0, double hi = INFINITY) const;
+  // `nearest` (optional, in/out) is a warm start: a triangle id (opaque, from
+  // an earlier query nearby) tried before the traversal, so the search starts
+  // with a tight bound and prunes more; on return it holds the closest
+  // triangle found (unchanged when none is closer than hi).
+  double distance(Vec3 p, double lo = 0, double hi = INFINITY, uint32_t* nearest = nullptr) const;
 
   // Parity of the crossings of the ray p + t*dir, t > 0, with the triangles.
   // `uncertain` when the ray grazes an edge or vertex (try another direction).
