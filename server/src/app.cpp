@@ -59,6 +59,8 @@ std::string find_worker_binary(const std::string& configured) {
   return "";
 }
 
+bool HttpServer::set_listen_backlog(int backlog) { return ::listen(svr_sock_, backlog) == 0; }
+
 App::App(Config config) {
   ctx_.config = std::move(config);
   const Config& c = ctx_.config;
@@ -119,6 +121,7 @@ bool App::bind() {
     if (!http_.bind_to_port(c.host, c.port)) return false;
     port_ = c.port;
   }
+  if (!http_.set_listen_backlog(SOMAXCONN)) log::warn("could not raise the listen backlog", {{"errno", errno}});
   return true;
 }
 

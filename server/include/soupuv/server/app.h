@@ -43,6 +43,16 @@ struct ServerContext {
   std::atomic<int> uploads_in_flight{0};
 };
 
+// httplib 0.11.4 listens with a backlog of 5, compiled into Debian's library:
+// a burst of new connections (one request per connection, see app.cpp)
+// overflows it, the kernel drops SYNs and clients retry only after 1 s — the
+// one-second tail measured on status polls. Linux lets a bound, listening
+// socket be given a new backlog by calling listen() again.
+class HttpServer : public httplib::Server {
+ public:
+  bool set_listen_backlog(int backlog);
+};
+
 class App {
  public:
   explicit App(Config config);  // throws std::runtime_error on bad setup
@@ -57,7 +67,7 @@ class App {
   void sweep_loop();
 
   ServerContext ctx_;
-  httplib::Server http_;
+  HttpServer http_;
   int port_ = 0;
   std::thread sweeper_;
   std::mutex sweep_mu_;
