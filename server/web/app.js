@@ -41,7 +41,13 @@ async function loadParams() {
       label.title = `not supported by this server's soupuv build (${p.flag})`;
     }
     let input;
-    if (p.values) {
+    if (p.type === 'array') {
+      // seam_hints: JSON polylines, [[[x,y,z], ...], ...]
+      input = document.createElement('textarea');
+      input.rows = 2;
+      input.placeholder = '[[[x,y,z],[x,y,z]], ...]';
+      input.title = `at most ${p.max_polylines} polylines, ${p.max_points} points`;
+    } else if (p.values) {
       input = document.createElement('select');
       if (p.default === null) input.append(new Option('(default)', ''));
       for (const v of p.values) input.append(new Option(v, v, false, v === p.default));
@@ -65,12 +71,20 @@ async function loadParams() {
   }
 }
 
+// Throws with a readable reason when a JSON parameter does not parse.
 function collectParams() {
   const out = {};
   for (const p of state.params) {
     if (!p.supported) continue;
     const el = $('params').querySelector(`[name="${p.name}"]`);
-    if (p.type === 'boolean') {
+    if (p.type === 'array') {
+      if (el.value.trim() === '') continue;
+      try {
+        out[p.name] = JSON.parse(el.value);
+      } catch {
+        throw new Error(`${p.name.replace(/_/g, ' ')} is not valid JSON`);
+      }
+    } else if (p.type === 'boolean') {
       if (el.checked !== (p.default === true)) out[p.name] = el.checked;
     } else if (el.value !== '') {
       out[p.name] = p.type === 'integer' ? parseInt(el.value, 10) : p.type === 'number' ? parseFloat(el.value) : el.value;
@@ -110,7 +124,13 @@ $('job-form').addEventListener('submit', async (e) => {
   const ext = state.file.name.split('.').pop().toLowerCase();
   const type = { glb: 'model/gltf-binary', gltf: 'model/gltf+json', drc: 'application/octet-stream' }[ext] || state.file.type;
   form.append('file', new Blob([state.file], { type }), state.file.name);
-  form.append('params', new Blob([JSON.stringify(collectParams())], { type: 'application/json' }));
+  let params;
+  try {
+    params = collectParams();
+  } catch (err) {
+    return showFormError(err.message);
+  }
+  form.append('params', new Blob([JSON.stringify(params)], { type: 'application/json' }));
   const tex = $('texture-input').files[0];
   if (tex) form.append('texture', tex, tex.name);
   $('submit-button').disabled = true;
@@ -142,8 +162,17 @@ function showJob(job) {
   const s = $('job-state');
   s.textContent = job.state;
   s.dataset.state = job.state;
-  $('job-stage').textContent = job.state === 'running' && job.stage ? `stage: ${job.stage}` : '';
+  $('job-stage').textContent = job.state === 'running' && job.stage ? `stage: ${job.stage.replace(/__/g, ' / ')}` : '';
+  if (job.state === 'running' && job.stage) (window.__soupuvStagesSeen ||= []).push(job.stage);  // browser test
   $('job-progress').value = job.state === 'running' ? job.fraction || 0 : job.state === 'succeeded' ? 1 : 0;
+  // Stages done so far, in the order the worker reported them, with seconds.
+  const list = $('stages');
+  list.textContent = '';
+  for (const [name, secs] of Object.entries(job.stage_seconds || {})) {
+    const li = document.createElement('li');
+    li.textContent = `${name.replace(/__/g, ' / ')}: ${secs < 0.01 ? '<0.01' : secs.toFixed(2)} s`;
+    list.append(li);
+  }
   $('job-error').hidden = !job.error;
   if (job.error) $('job-error').textContent = `${job.error.code}: ${job.error.detail}`;
   const dl = $('downloads');
@@ -181,6 +210,7 @@ async function showResult(job) {
     showDiagnostics(diag);
     plotConvergence(diag);
   }
+  window.__soupuvResultShown = true;  // for the browser test: every panel is filled
 }
 
 function flatten(obj, prefix = '', out = []) {
@@ -208,7 +238,7 @@ function showDiagnostics(diag) {
 function findHistory(obj, path = '') {
   for (const [k, v] of Object.entries(obj || {})) {
     const p = path ? `${path}.${k}` : k;
-    if (Array.isArray(v) && v.length > 1 && v.every((x) => typeof x === 'number') && /resid|history|converg/i.test(k)) return [p, v];
+    if (Array.isArray(v) && v.length >= 1 && v.every((x) => typeof x === 'number') && /^(resid|history)/i.test(k)) return [p, v];
     if (v && typeof v === 'object' && !Array.isArray(v)) {
       const found = findHistory(v, p);
       if (found) return found;
@@ -222,13 +252,13 @@ function plotConvergence(diag) {
   $('plot-figure').hidden = !found;
   if (!found) return;
   const [name, values] = found;
-  $('plot-caption').textContent = `${name} (log scale) per iteration`;
+  $('plot-caption').textContent = `${name} (log scale) per iteration: ${values.length} iteration${values.length > 1 ? 's' : ''}, last ${values[values.length - 1].toExponential(2)}`;
   const c = $('convergence');
   const g = c.getContext('2d');
   g.clearRect(0, 0, c.width, c.height);
   const logs = values.map((v) => Math.log10(Math.max(v, 1e-300)));
   const lo = Math.min(...logs), hi = Math.max(...logs);
-  const x = (i) => 30 + (i / (values.length - 1)) * (c.width - 40);
+  const x = (i) => 30 + (values.length > 1 ? i / (values.length - 1) : 0.5) * (c.width - 40);
   const y = (l) => 10 + (hi === lo ? 0.5 : (hi - l) / (hi - lo)) * (c.height - 30);
   g.strokeStyle = '#999';
   g.strokeRect(30, 10, c.width - 40, c.height - 30);
@@ -240,6 +270,9 @@ function plotConvergence(diag) {
   g.beginPath();
   logs.forEach((l, i) => (i ? g.lineTo(x(i), y(l)) : g.moveTo(x(i), y(l))));
   g.stroke();
+  g.fillStyle = '#1d3557';  // a dot per iteration: a one-step solve is visible too
+  logs.forEach((l, i) => g.fillRect(x(i) - 2, y(l) - 2, 4, 4));
+  window.__soupuvPlotPoints = values.length;  // for the browser test
 }
 
 // ---- viewer -------------------------------------------------------------------------

@@ -1,8 +1,11 @@
-// Browser test of the upload page: starts soupuv-server (real CLI as worker,
-// --method box) on 127.0.0.1 with a free port, drives Debian's chromium through
-// playwright-core, uploads a sample, waits for success, checks that the viewer
-// drew (canvas pixels not all background), that the diagnostics table filled,
-// and saves a screenshot.
+// Browser test of the upload page: starts soupuv-server (real CLI as worker)
+// on 127.0.0.1 with a free port, drives Debian's chromium through
+// playwright-core, uploads a sample with the default method (field) at a coarse
+// proxy resolution and debug outputs on, and checks what a user sees: stage
+// progress while it runs, the viewer drew a textured model, toggles for soup,
+// proxy and field lines (turning the proxy on changes the picture), the UV
+// layout image, the diagnostics table and the convergence plot. Saves a
+// screenshot.
 //
 //   node upload_page.test.mjs --server BIN --worker BIN --sample FILE --out DIR
 // Prints "1 passed, 0 failed" or "0 passed, 1 failed" and exits accordingly.
@@ -54,13 +57,18 @@ try {
   page.on('pageerror', (e) => consoleErrors.push(String(e)));
   await page.goto(`http://127.0.0.1:${server.port}/`);
   await page.waitForSelector('#params label');  // the form came from /v1/params
+  const method = await page.$eval('#params [name="method"]', (e) => e.value);
+  if (method !== 'field') throw new Error(`the form's default method is ${method}, not field`);
+  await page.fill('#params [name="resolution"]', '16');  // coarse: the test must stay fast
+  await page.check('#params [name="debug_outputs"]');
   await page.setInputFiles('#file-input', args.sample);
   await page.click('#submit-button');
   await page.waitForFunction(() => ['succeeded', 'failed', 'canceled'].includes(
     document.getElementById('job-state').dataset.state), null, { timeout: 90000 });
   const jobState = await page.$eval('#job-state', (e) => e.dataset.state);
   if (jobState !== 'succeeded') throw new Error(`job ended ${jobState}: ${await page.$eval('#job-error', (e) => e.textContent)}`);
-  await page.waitForFunction(() => window.__soupuvViewerReady === true, null, { timeout: 30000 });
+  await page.waitForFunction(() => window.__soupuvViewerReady === true && window.__soupuvResultShown === true,
+    null, { timeout: 30000 });
   // Read the WebGL canvas back through a 2D canvas and count non-background pixels.
   const drawn = await page.evaluate(() => {
     const src = document.getElementById('viewer');
@@ -78,11 +86,45 @@ try {
     return { fraction: other / (px.length / 4), colors: colors.size, width: c.width, height: c.height };
   });
   const rows = await page.$$eval('#diagnostics tbody tr', (r) => r.length);
+  const layers = await page.$$eval('#layers label', (ls) => ls.map((l) => l.textContent.trim()));
+  // Turning the proxy layer on must change the picture.
+  const checksum = () => page.evaluate(() => {
+    const src = document.getElementById('viewer');
+    const c = document.createElement('canvas');
+    c.width = src.width; c.height = src.height;
+    const g = c.getContext('2d');
+    g.drawImage(src, 0, 0);
+    const px = g.getImageData(0, 0, c.width, c.height).data;
+    let h = 0;
+    for (let i = 0; i < px.length; i += 4) h = (h * 31 + px[i] + 7 * px[i + 1] + 13 * px[i + 2]) >>> 0;
+    return h;
+  });
+  const before = await checksum();
+  const proxyToggle = page.locator('#layers label', { hasText: 'proxy' }).locator('input');
+  let proxyChanged = false;
+  if (await proxyToggle.count() === 1) {
+    await proxyToggle.check();
+    proxyChanged = (await checksum()) !== before;
+    await proxyToggle.uncheck();
+  }
+  const uvWidth = await page.$eval('#uv-layout', (img) => (img.closest('figure').hidden ? 0 : img.naturalWidth));
+  const plotPoints = await page.evaluate(() => (document.getElementById('plot-figure').hidden ? 0 : window.__soupuvPlotPoints || 0));
+  const stagesSeen = await page.evaluate(() => [...new Set(window.__soupuvStagesSeen || [])]);
+  const stageRows = await page.$$eval('#stages li', (l) => l.length);
   await page.screenshot({ path: path.join(args.out, 'upload-page.png'), fullPage: true });
-  console.log(JSON.stringify({ drawn, diagnostics_rows: rows, console_errors: consoleErrors }));
+  console.log(JSON.stringify({ drawn, diagnostics_rows: rows, layers, proxy_changed_picture: proxyChanged,
+    uv_layout_width: uvWidth, convergence_points: plotPoints, stages_seen_running: stagesSeen,
+    stage_rows: stageRows, console_errors: consoleErrors }));
   if (drawn.fraction < 0.02) throw new Error(`viewer drew almost nothing (${(drawn.fraction * 100).toFixed(2)}% non-background)`);
   if (drawn.colors < 8) throw new Error(`viewer shows ${drawn.colors} colour classes: no texture?`);
   if (rows < 5) throw new Error(`diagnostics table has ${rows} rows`);
+  for (const want of ['textured soup', 'proxy', 'field lines'])
+    if (!layers.includes(want)) throw new Error(`no '${want}' toggle (layers: ${layers.join(', ')})`);
+  if (!proxyChanged) throw new Error('turning the proxy layer on did not change the picture');
+  if (uvWidth < 64) throw new Error(`UV layout image not shown (width ${uvWidth})`);
+  if (plotPoints < 1) throw new Error('no convergence plot');
+  if (stagesSeen.length < 2) throw new Error(`stage progress not shown while running (saw: ${stagesSeen.join(', ')})`);
+  if (stageRows < 4) throw new Error(`finished-stage list has ${stageRows} entries`);
   if (consoleErrors.length) throw new Error(`page errors: ${consoleErrors.join(' | ')}`);
 } catch (e) {
   failed = e;
