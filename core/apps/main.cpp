@@ -42,6 +42,12 @@ Usage:
                              ladder, default) or a fraction F of the diagonal
       --offset-abs L         proxy offset as an absolute length
       --resolution N         proxy grid cells along the longest axis (0 = auto)
+      --proxy-edge L         proxy remeshing target edge length (0 = the offset)
+      --chart-angle DEG      atlas: max normal deviation within a chart (70)
+      --chart-stretch S      atlas: max L2 stretch of a chart before a split
+      --pack-splits N        atlas: rounds of halving charts to pack tighter
+      --weld-tolerance F     corners closer than F x diagonal are one vertex
+                             (shared lines, sides, §8 neighbours; 0.002)
       --steps N              field-line step limit (default 100)
       --integrator euler|midpoint
       --solver krylov|robin-hood   charge solver (default krylov)
@@ -54,7 +60,8 @@ Usage:
                              the continuity figure (else corners are welded)
       --debug-prefix P       also write P.proxy.glb (textured proxy),
                              P.lines.glb (field lines), P.uv.png (UV layout)
-      --no-refine-intersections  --no-orient  --no-chart-fix
+      --no-refine-intersections  --no-orient  --no-share-lines  --no-chart-fix
+      --no-chart-neighbours
 
   soupuv --help | --version
 

@@ -86,6 +86,21 @@ bool parse_method_flag(const std::vector<std::string>& args, size_t& i, MethodFl
     if (!(o.proxy.offset > 0)) throw UsageError{"--offset-abs needs a positive length"};
   } else if (a == "--resolution") {
     o.proxy.resolution = integer(a, value(), 0, 2048);
+  } else if (a == "--proxy-edge") {
+    o.proxy.target_edge_length = number(a, value());
+    if (!(o.proxy.target_edge_length >= 0)) throw UsageError{"--proxy-edge needs a length >= 0 (0: auto)"};
+  } else if (a == "--chart-angle") {
+    o.atlas.max_normal_deviation_deg = number(a, value());
+    if (!(o.atlas.max_normal_deviation_deg > 0 && o.atlas.max_normal_deviation_deg <= 90))
+      throw UsageError{"--chart-angle needs degrees in (0, 90]"};
+  } else if (a == "--chart-stretch") {
+    o.atlas.max_stretch = number(a, value());
+    if (!(o.atlas.max_stretch >= 1)) throw UsageError{"--chart-stretch needs a value >= 1"};
+  } else if (a == "--weld-tolerance") {
+    o.weld_tolerance = number(a, value());
+    if (!(o.weld_tolerance >= 0 && o.weld_tolerance < 0.1)) throw UsageError{"--weld-tolerance needs a fraction of the diagonal in [0, 0.1)"};
+  } else if (a == "--pack-splits") {
+    o.atlas.packing_split_rounds = integer(a, value(), 0, 16);
   } else if (a == "--steps") {
     o.trace.max_steps = integer(a, value(), 1, 100000);
   } else if (a == "--integrator") {
@@ -115,6 +130,10 @@ bool parse_method_flag(const std::vector<std::string>& args, size_t& i, MethodFl
     o.refine_intersections = false;
   } else if (a == "--no-orient") {
     o.orient_sides = false;
+  } else if (a == "--no-chart-neighbours") {
+    o.chart_fix_neighbours = false;
+  } else if (a == "--no-share-lines") {
+    o.share_lines = false;
   } else if (a == "--no-chart-fix") {
     o.transfer.fix_chart_boundaries = false;
   } else {

@@ -4,6 +4,7 @@
 #include <sstream>
 
 #include "pipeline/field_codec.h"
+#include "pipeline/shared_seeds.h"
 #include "soupuv/cache/bytes.h"
 #include "soupuv/quality/weld.h"
 #include "soupuv/transfer/intersect.h"
@@ -35,7 +36,7 @@ std::string trace_params(const FieldBranchOptions& b) {
   s << "int=" << int(o.integrator) << " steps=" << o.max_steps << " step=" << o.step
     << " eps=" << o.start_offset << " stop=" << o.stop_radius << " p=" << o.fmm_order
     << " theta=" << o.fmm_theta << " keep=" << o.keep_points << " adaptive=" << o.adaptive_step
-    << " direct=" << o.direct << " leaf=" << o.fmm_leaf_size << " probes=" << b.trace_cut_probes << " orient=" << b.orient_sides
+    << " direct=" << o.direct << " leaf=" << o.fmm_leaf_size << " probes=" << b.trace_cut_probes << " orient=" << b.orient_sides << " share=" << b.share_lines
     << " weld=" << b.weld_tolerance << " edge=" << b.weld_edge_fraction;
   return s.str();
 }
@@ -90,96 +91,86 @@ field::FieldLines merge_lines(const field::FieldLines& base, const field::FieldL
   return out;
 }
 
-}  // namespace
 
-FieldBranchResult run_field_branch(const Soup& soup, const std::string& soup_hash,
-                                   const FieldBranchOptions& options, cache::Store* cache,
-                                   Progress& progress) {
-  FieldBranchResult r;
-  field::ChargeOptions charge_options = options.charge;
-  charge_options.threads = options.threads;
-  field::TraceOptions trace_options = options.trace;
-  trace_options.threads = options.threads;
+// One line per (welded position, component), traced with the |E| rule; then
+// each component's side by an area-weighted vote of its lines, and the lines
+// that left on the other side traced again on the component's side (§12.4).
+void trace_shared(const Soup& soup, const field::ChargeResult& charges,
+                  const field::TraceOptions& trace_options, const FieldBranchOptions& options,
+                  Progress& progress, FieldBranchResult& r) {
+  const quality::Weld weld =
+      quality::weld_corners(soup, options.weld_tolerance, options.weld_edge_fraction);
+  const auto adjacency = quality::edge_adjacency(weld, soup.triangles.size());
+  const transfer::Orientation orientation = transfer::consistent_orientation(soup, adjacency);
+  SharedSeeds shared = shared_seeds(soup, weld, orientation);
 
-  // Charges: cached by the soup, the refinement switch and the charge options.
-  const std::string charge_key =
-      cache::cache_key({"charges", kFieldCacheVersion, soup_hash,
-                        options.refine_intersections ? "refine" : "plain", charge_params(charge_options)});
-  const std::string lines_key =
-      cache::cache_key({"lines", kFieldCacheVersion, charge_key, trace_params(options)});
-
-  if (cache) {
-    if (auto hit = cache->get(lines_key)) {
-      // The lines carry everything downstream needs; charges are not even read.
-      r.lines = decode_lines(*hit);
-      if (auto probes = cache->get(lines_key + ".probes")) {
-        cache::ByteReader rd(*probes);
-        r.probes = rd.get_vector<transfer::CutProbe>();
-        r.probe_lines = decode_lines(rd.get_vector<uint8_t>());
-      }
-      r.lines_cached = r.charges_cached = true;
-      if (auto meta = cache->get(lines_key + ".json")) {
-        auto j = nlohmann::json::parse(meta->begin(), meta->end());
-        r.charge = j["charge"];
-        r.trace = j["trace"];
-        r.orient = j["orient"];
-        r.intersections = j["intersections"];
-      }
-      r.trace["cached"] = true;
-      r.charge["cached"] = true;
-      return r;
+  field::TraceStats stats;
+  field::FieldLines lines =
+      field::trace_field_lines(charges, shared.seeds, trace_options, progress, &stats);
+  add_stats(r.trace, stats);
+  const size_t groups = shared.seeds.size();
+  std::vector<int8_t> side(groups);
+  std::vector<double> vote(orientation.components, 0.0);
+  for (size_t g = 0; g < groups; ++g) {
+    side[g] = int8_t(shared_line_side(shared.seeds[g], lines, g));
+    vote[shared.component[g]] += side[g] * shared.area[g];
+  }
+  // Triangles whose corners' lines left on different sides of the
+  // consistent winding.
+  auto mixed_triangles = [&](const std::vector<int8_t>& group_side) {
+    size_t mixed = 0;
+    for (size_t t = 0; t < soup.triangles.size(); ++t) {
+      int8_t a = group_side[shared.group_of_corner[3 * t]];
+      mixed += a != group_side[shared.group_of_corner[3 * t + 1]] ||
+               a != group_side[shared.group_of_corner[3 * t + 2]];
+    }
+    return mixed;
+  };
+  const size_t mixed_before = mixed_triangles(side);
+  std::vector<field::TraceSeed> again;
+  if (options.orient_sides) {
+    for (size_t g = 0; g < groups; ++g) {
+      const int8_t want = vote[shared.component[g]] >= 0 ? 1 : -1;
+      if (side[g] == want) continue;
+      field::TraceSeed s = shared.seeds[g];
+      s.side = want;
+      again.push_back(s);
+      side[g] = want;
     }
   }
-
-  field::ChargeResult charges;
-  std::shared_ptr<const cache::Bytes> cached_charges = cache ? cache->get(charge_key) : nullptr;
-  if (cached_charges) {
-    charges = decode_charges(*cached_charges);
-    r.charges_cached = true;
-    if (auto meta = cache->get(charge_key + ".json"))
-      r.intersections = nlohmann::json::parse(meta->begin(), meta->end());
-    if (auto probes = cache->get(charge_key + ".probes")) {
-      cache::ByteReader rd(*probes);
-      r.probes = rd.get_vector<transfer::CutProbe>();
-    }
-  } else {
-    auto t0 = std::chrono::steady_clock::now();
-    const Soup* charged = &soup;
-    transfer::IntersectionRefinement refinement;
-    if (options.refine_intersections) {
-      refinement = transfer::refine_intersections(soup, progress);
-      charged = &refinement.soup;
-      r.intersections = refinement.diagnostics();
-      r.probes = refinement.probes;
-    }
-    r.seconds_refine = since(t0);
-    r.intersections["seconds"] = r.seconds_refine;
-    auto t1 = std::chrono::steady_clock::now();
-    charges = field::solve_charges(*charged, charge_options, progress);
-    r.seconds_charge = since(t1);
-    if (cache) {
-      cache->put(charge_key, encode(charges));
-      std::string meta = r.intersections.dump();
-      cache->put(charge_key + ".json", cache::Bytes(meta.begin(), meta.end()));
-      cache::ByteWriter w;
-      w.put_vector(r.probes);
-      cache->put(charge_key + ".probes", w.take());
-    }
+  if (!again.empty()) {
+    field::TraceStats more;
+    field::FieldLines fresh = field::trace_field_lines(charges, again, trace_options, progress, &more);
+    add_stats(r.trace, more);
+    lines = merge_lines(lines, fresh);
   }
-  r.charge = charge_json(charges);
-  r.charge["cached"] = r.charges_cached;
-  r.warnings.insert(r.warnings.end(), charges.warnings.begin(), charges.warnings.end());
+  r.orient = {{"enabled", options.orient_sides},
+              {"shared_lines", true},
+              {"components", orientation.components},
+              {"flipped_triangles", orientation.flipped_triangles},
+              {"conflicting_edges", orientation.conflicting_edges},
+              {"adjacent_pairs", adjacency.size()},
+              {"retraced_corners", again.size()},
+              {"mixed_side_triangles_before", mixed_before},
+              {"mixed_side_triangles_after", mixed_triangles(side)}};
+  r.trace["shared_lines"] = groups;
+  r.trace["corners"] = 3 * soup.triangles.size();
+  r.lines = std::move(lines);
+  r.line_of_corner = std::move(shared.group_of_corner);
+}
 
+// The paper's seeding: one line per corner, from its own triangle.
+void trace_per_corner(const Soup& soup, const field::ChargeResult& charges,
+                      const field::TraceOptions& trace_options, const FieldBranchOptions& options,
+                      Progress& progress, FieldBranchResult& r) {
   // Trace every original corner with the |E| rule, then retrace the corners
   // whose side disagrees with their component's (§12.4).
-  auto t2 = std::chrono::steady_clock::now();
   std::vector<field::TraceSeed> seeds = field::corner_seeds(soup);
   std::vector<uint32_t> seed_of_corner(3 * soup.triangles.size(), UINT32_MAX);
   for (size_t i = 0; i < seeds.size(); ++i)
     if (seeds[i].corner < seed_of_corner.size()) seed_of_corner[seeds[i].corner] = uint32_t(i);
   field::TraceStats stats;
   field::FieldLines lines = field::trace_field_lines(charges, seeds, trace_options, progress, &stats);
-  r.trace = nlohmann::json::object();
   add_stats(r.trace, stats);
   if (options.orient_sides) {
     auto adjacency = quality::edge_adjacency(
@@ -241,9 +232,106 @@ FieldBranchResult run_field_branch(const Soup& soup, const std::string& soup_has
     r.probe_lines = field::trace_field_lines(charges, probe_seeds, trace_options, progress, &more);
     add_stats(r.trace, more);
   }
+  r.lines = std::move(lines);
+}
+
+}  // namespace
+
+FieldBranchResult run_field_branch(const Soup& soup, const std::string& soup_hash,
+                                   const FieldBranchOptions& options, cache::Store* cache,
+                                   Progress& progress) {
+  FieldBranchResult r;
+  field::ChargeOptions charge_options = options.charge;
+  charge_options.threads = options.threads;
+  field::TraceOptions trace_options = options.trace;
+  trace_options.threads = options.threads;
+
+  // Charges: cached by the soup, the refinement switch and the charge options.
+  const std::string charge_key =
+      cache::cache_key({"charges", kFieldCacheVersion, soup_hash,
+                        options.refine_intersections ? "refine" : "plain", charge_params(charge_options)});
+  const std::string lines_key =
+      cache::cache_key({"lines", kFieldCacheVersion, charge_key, trace_params(options)});
+
+  if (cache) {
+    auto hit = cache->get(lines_key);
+    // Shared lines are useless without their corner map (evicted separately).
+    auto corners = hit && options.share_lines ? cache->get(lines_key + ".corners") : nullptr;
+    if (hit && (corners || !options.share_lines)) {
+      // The lines carry everything downstream needs; charges are not even read.
+      r.lines = decode_lines(*hit);
+      if (auto probes = cache->get(lines_key + ".probes")) {
+        cache::ByteReader rd(*probes);
+        r.probes = rd.get_vector<transfer::CutProbe>();
+        r.probe_lines = decode_lines(rd.get_vector<uint8_t>());
+      }
+      if (corners) {
+        cache::ByteReader rd(*corners);
+        r.line_of_corner = rd.get_vector<uint32_t>();
+      }
+      r.lines_cached = r.charges_cached = true;
+      if (auto meta = cache->get(lines_key + ".json")) {
+        auto j = nlohmann::json::parse(meta->begin(), meta->end());
+        r.charge = j["charge"];
+        r.trace = j["trace"];
+        r.orient = j["orient"];
+        r.intersections = j["intersections"];
+      }
+      r.trace["cached"] = true;
+      r.charge["cached"] = true;
+      return r;
+    }
+  }
+
+  field::ChargeResult charges;
+  std::shared_ptr<const cache::Bytes> cached_charges = cache ? cache->get(charge_key) : nullptr;
+  if (cached_charges) {
+    charges = decode_charges(*cached_charges);
+    r.charges_cached = true;
+    if (auto meta = cache->get(charge_key + ".json"))
+      r.intersections = nlohmann::json::parse(meta->begin(), meta->end());
+    if (auto probes = cache->get(charge_key + ".probes")) {
+      cache::ByteReader rd(*probes);
+      r.probes = rd.get_vector<transfer::CutProbe>();
+    }
+  } else {
+    auto t0 = std::chrono::steady_clock::now();
+    const Soup* charged = &soup;
+    transfer::IntersectionRefinement refinement;
+    if (options.refine_intersections) {
+      refinement = transfer::refine_intersections(soup, progress);
+      charged = &refinement.soup;
+      r.intersections = refinement.diagnostics();
+      r.probes = refinement.probes;
+    }
+    r.seconds_refine = since(t0);
+    r.intersections["seconds"] = r.seconds_refine;
+    auto t1 = std::chrono::steady_clock::now();
+    charges = field::solve_charges(*charged, charge_options, progress);
+    r.seconds_charge = since(t1);
+    if (cache) {
+      cache->put(charge_key, encode(charges));
+      std::string meta = r.intersections.dump();
+      cache->put(charge_key + ".json", cache::Bytes(meta.begin(), meta.end()));
+      cache::ByteWriter w;
+      w.put_vector(r.probes);
+      cache->put(charge_key + ".probes", w.take());
+    }
+  }
+  r.charge = charge_json(charges);
+  r.charge["cached"] = r.charges_cached;
+  r.warnings.insert(r.warnings.end(), charges.warnings.begin(), charges.warnings.end());
+
+  auto t2 = std::chrono::steady_clock::now();
+  r.trace = nlohmann::json::object();
+  if (options.share_lines) {
+    trace_shared(soup, charges, trace_options, options, progress, r);
+    r.probes.clear();  // cut-triangle probes pair with per-corner lines only
+  } else {
+    trace_per_corner(soup, charges, trace_options, options, progress, r);
+  }
   r.trace["probe_lines"] = r.probe_lines.size();
   r.seconds_trace = since(t2);
-  r.lines = std::move(lines);
   r.trace["cached"] = false;
   if (cache) {
     cache->put(lines_key, encode(r.lines));
@@ -255,6 +343,9 @@ FieldBranchResult run_field_branch(const Soup& soup, const std::string& soup_has
     w.put_vector(r.probes);
     w.put_vector(encode(r.probe_lines));
     cache->put(lines_key + ".probes", w.take());
+    cache::ByteWriter wc;
+    wc.put_vector(r.line_of_corner);
+    cache->put(lines_key + ".corners", wc.take());
   }
   return r;
 }

@@ -24,6 +24,9 @@ struct FieldBranchOptions {
   bool refine_intersections = true;
   bool trace_cut_probes = false;   // probes of cut triangles (intersect.h)
   bool orient_sides = true;
+  // Copies of one welded position share one field line (shared_seeds.h);
+  // false: one line per corner from its own triangle (the paper's seeding).
+  bool share_lines = true;
   double weld_tolerance = 0;       // absolute
   double weld_edge_fraction = 0.3;
   int threads = 1;
@@ -31,6 +34,9 @@ struct FieldBranchOptions {
 
 struct FieldBranchResult {
   field::FieldLines lines;
+  // With shared lines: the line of every soup corner (lines.corner names one
+  // corner per line). Empty: line i belongs to corner lines.corner[i] alone.
+  std::vector<uint32_t> line_of_corner;
   // Cut triangles (§12.1): probe points and their lines (line i: probe i/3,
   // point i%3), for transfer::apply_cut_probes.
   std::vector<transfer::CutProbe> probes;

@@ -10,6 +10,7 @@
 #include "soupuv/baseline/box_projection.h"
 #include "soupuv/cache/store.h"
 #include "soupuv/errors.h"
+#include "soupuv/quality/discontinuity.h"
 #include "soupuv/quality/uv_metrics.h"
 #include "soupuv/transfer/intersect.h"
 
@@ -68,16 +69,20 @@ double stop_radius(const Soup& soup, const proxy::ProxyOptions& p) {
   return 0.5 * diag + std::max(0.25 * diag, 1.5 * offset);
 }
 
-quality::UvMetrics measure(const Soup& soup, const std::vector<std::array<Vec2, 3>>& uvs,
-                           const MapOptions& options, double uv_per_length, double& seconds) {
-  auto t0 = Clock::now();
+std::vector<quality::AdjacentPair> metric_pairs(const Soup& soup, const MapOptions& options) {
   const double diag = bounding_box(soup).diagonal();
-  auto adjacency = options.original
+  return options.original
                        ? quality::metric_adjacency(soup, options.original, 0)
                        : quality::edge_adjacency(
                              quality::weld_corners(soup, options.weld_tolerance * diag,
                                                    options.weld_edge_fraction),
                              soup.triangles.size());
+}
+
+quality::UvMetrics measure(const Soup& soup, const std::vector<std::array<Vec2, 3>>& uvs,
+                           const std::vector<quality::AdjacentPair>& adjacency,
+                           const MapOptions& options, double uv_per_length, double& seconds) {
+  auto t0 = Clock::now();
   quality::UvMetricsOptions mo;
   mo.texture_size = options.metrics_texture_size;
   mo.uv_per_length = uv_per_length;
@@ -120,7 +125,7 @@ MapResult run_box(const Soup& soup, const MapOptions& options, Progress& progres
   std::vector<std::array<Vec2, 3>> uvs(soup.triangles.size());
   for (size_t c = 0; c < box.corner_uvs.size(); ++c) uvs[c / 3][c % 3] = box.corner_uvs[c];
   double metric_seconds = 0;
-  auto m = measure(soup, uvs, options, 0, metric_seconds);
+  auto m = measure(soup, uvs, metric_pairs(soup, options), options, 0, metric_seconds);
   r.corner_uvs = std::move(box.corner_uvs);
   nlohmann::json& d = r.diagnostics;
   d["method"] = "box";
@@ -135,6 +140,12 @@ MapResult run_box(const Soup& soup, const MapOptions& options, Progress& progres
 }
 
 }  // namespace
+
+atlas::AtlasOptions map_atlas_defaults() {
+  atlas::AtlasOptions o;
+  o.max_normal_deviation_deg = 70;
+  return o;
+}
 
 MapResult run_map(const io::Asset& asset, const MapOptions& options, Progress& progress) {
   MapResult r = run_map(asset.soup, options, progress);
@@ -160,6 +171,7 @@ MapResult run_map(const Soup& soup, const MapOptions& options, Progress& progres
   fo.refine_intersections = options.refine_intersections;
   fo.trace_cut_probes = options.refine_intersections && options.cut_probe_extrapolation;
   fo.orient_sides = options.orient_sides;
+  fo.share_lines = options.share_lines;
   fo.weld_tolerance = options.weld_tolerance * diag;
   fo.weld_edge_fraction = options.weld_edge_fraction;
   fo.threads = field_threads;
@@ -199,9 +211,19 @@ MapResult run_map(const Soup& soup, const MapOptions& options, Progress& progres
   // Transfer: the branches meet.
   transfer::TransferOptions to = options.transfer;
   to.threads = total_threads;
+  std::vector<quality::AdjacentPair> neighbours;
+  if (options.chart_fix_neighbours) {
+    neighbours = quality::edge_adjacency(
+        quality::weld_corners(soup, options.weld_tolerance * diag, options.weld_edge_fraction),
+        soup.triangles.size());
+    to.neighbours = &neighbours;
+  }
   auto t_transfer = Clock::now();
   transfer::TransferResult tr =
-      transfer::transfer_uvs(soup, field.lines, pb.proxy.proxy, pb.atlas.atlas, to, progress);
+      field.line_of_corner.empty()
+          ? transfer::transfer_uvs(soup, field.lines, pb.proxy.proxy, pb.atlas.atlas, to, progress)
+          : transfer::transfer_uvs(soup, field.lines, field.line_of_corner, pb.proxy.proxy,
+                                   pb.atlas.atlas, to, progress);
   size_t cut_corrected = 0;
   if (!field.probes.empty()) {
     std::vector<Vec3> starts;
@@ -217,7 +239,15 @@ MapResult run_map(const Soup& soup, const MapOptions& options, Progress& progres
   double seconds_transfer = since(t_transfer);
 
   double metric_seconds = 0;
-  quality::UvMetrics m = measure(soup, tr.corner_uvs, options, pb.atlas.atlas.uv_per_length, metric_seconds);
+  const auto adjacency = metric_pairs(soup, options);
+  quality::UvMetrics m = measure(soup, tr.corner_uvs, adjacency, options,
+                                 pb.atlas.atlas.uv_per_length, metric_seconds);
+  quality::CornerLanding landed{tr.missed, tr.first_chart, {}};
+  landed.final_chart.resize(tr.landing.size());
+  for (size_t c = 0; c < tr.landing.size(); ++c)
+    landed.final_chart[c] = pb.atlas.atlas.face_chart[tr.landing[c].face];
+  const quality::DiscontinuityBreakdown causes = quality::discontinuity_breakdown(
+      soup, tr.corner_uvs, adjacency, landed, options.metrics_texture_size, m.uv_per_length);
 
   MapResult r;
   r.corner_uvs.reserve(3 * soup.triangles.size());
@@ -258,6 +288,7 @@ MapResult run_map(const Soup& soup, const MapOptions& options, Progress& progres
                    {"corrected_triangles", tr.corrected_triangles},
                    {"cut_triangles_corrected", cut_corrected}};
   d["uv"] = uv_json(m, soup, options);
+  d["uv"]["causes"] = causes.to_json();
   size_t hits = size_t(field.charges_cached) + size_t(field.lines_cached);
   size_t misses = 2 - hits;
   d["cache"] = cache_json(options.cache, options.cache ? hits : 0, options.cache ? misses : 0);

@@ -125,6 +125,22 @@ UvMetrics uv_metrics(const Soup& soup, const CornerUvs& uvs,
   return m;
 }
 
+double stretch_l2_subset(const Soup& soup, const CornerUvs& uvs,
+                         const std::vector<uint8_t>& include, double scale) {
+  double sum = 0, weight = 0;
+  for (size_t t = 0; t < uvs.size(); ++t) {
+    const double a = triangle_area(soup, t);
+    double big, small;
+    if (!include[t] || !(a > 0) ||
+        !stretch_singular_values(soup.corner(t, 0), soup.corner(t, 1), soup.corner(t, 2), uvs[t],
+                                 big, small))
+      continue;
+    sum += a * 0.5 * (big * big + small * small);
+    weight += a;
+  }
+  return weight > 0 ? std::sqrt(sum / weight) * scale : 0;
+}
+
 std::vector<AdjacentPair> metric_adjacency(const Soup& soup, const Soup* original,
                                            double weld_tolerance) {
   if (original) {

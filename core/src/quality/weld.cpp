@@ -70,6 +70,11 @@ Weld weld_corners(const Soup& soup, double tolerance, double edge_fraction) {
         uint32_t(c));
   }
   const double tol2 = tolerance * tolerance;
+  struct Candidate {
+    double d2;
+    uint32_t a, b;
+  };
+  std::vector<Candidate> candidates;
   for (size_t c = 0; c < corners; ++c) {
     Vec3 p = pos(c);
     int64_t cx = coord(p.x, box.lo.x), cy = coord(p.y, box.lo.y), cz = coord(p.z, box.lo.z);
@@ -86,9 +91,32 @@ Weld weld_corners(const Soup& soup, double tolerance, double edge_fraction) {
             bool same = exact ? (p.x == q.x && p.y == q.y && p.z == q.z) : d2 <= tol2;
             if (same && !cap2.empty() && !exact)
               same = d2 <= std::min(cap2[c / 3], cap2[o / 3]);
-            if (same) uf.unite(uint32_t(c), o);
+            if (same) candidates.push_back({d2, uint32_t(c), o});
           }
         }
+  }
+  // Nearest pairs first, and never two corners of one triangle (even through
+  // a chain of welds): a noisy copy is closer to its twins than to the next
+  // vertex, so the greedy order welds twins and the constraint keeps
+  // triangles from collapsing where the tolerance exceeds an edge.
+  std::sort(candidates.begin(), candidates.end(),
+            [](const Candidate& x, const Candidate& y) { return x.d2 < y.d2; });
+  std::vector<std::vector<uint32_t>> members(corners);  // triangles per root
+  for (size_t c = 0; c < corners; ++c) members[c] = {uint32_t(c / 3)};
+  for (const Candidate& k : candidates) {
+    uint32_t ra = uf.find(k.a), rb = uf.find(k.b);
+    if (ra == rb) continue;
+    const auto& ma = members[ra];
+    const auto& mb = members[rb];
+    bool shared = false;
+    for (uint32_t t : ma)
+      for (uint32_t u : mb) shared |= t == u;
+    if (shared) continue;
+    uf.unite(ra, rb);
+    uint32_t root = uf.find(ra), other = root == ra ? rb : ra;
+    members[root].insert(members[root].end(), members[other].begin(), members[other].end());
+    members[other].clear();
+    members[other].shrink_to_fit();
   }
 
   w.corner_vertex.resize(corners);

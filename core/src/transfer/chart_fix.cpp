@@ -46,7 +46,8 @@ std::array<double, 3> plane_barycentric(const TriMesh& mesh, int f, Vec3 p) {
 ChartFixResult fix_chart_boundaries(const Soup& soup, const proxy::ProxyMesh& proxy,
                                     const atlas::Atlas& atlas, std::vector<SurfacePoint>& landing,
                                     std::vector<std::array<Vec2, 3>>& corner_uvs,
-                                    Progress& progress) {
+                                    Progress& progress,
+                                    const std::vector<quality::AdjacentPair>* neighbours) {
   ChartFixResult r;
   const TriMesh& mesh = proxy.mesh;
   auto chart_of = [&](size_t corner) { return atlas.face_chart[landing[corner].face]; };
@@ -71,23 +72,39 @@ ChartFixResult fix_chart_boundaries(const Soup& soup, const proxy::ProxyMesh& pr
 
   const double scale = atlas_scale(mesh, atlas);
   const double scale2 = scale * scale;
+  // The orientation a continuous map gives the soup's winding: that of the
+  // triangles that landed on one chart.
+  double oriented = 0;
+  for (size_t t = 0; t < soup.triangles.size(); ++t) {
+    const auto& uv = corner_uvs[t];
+    if (chart_of(3 * t) == chart_of(3 * t + 1) && chart_of(3 * t) == chart_of(3 * t + 2))
+      oriented += cross(uv[1] - uv[0], uv[2] - uv[0]);
+  }
+  const double sign = oriented >= 0 ? 1 : -1;
+
+  // Candidates per mixed triangle: each of its corners' charts, with the
+  // corners on other charts moved onto it, and the cost of that choice.
+  struct Candidate {
+    int chart = -1;
+    std::array<SurfacePoint, 3> land;
+    std::array<Vec2, 3> uv;
+    double cost = 0;
+  };
+  std::vector<std::array<Candidate, 3>> candidates(mixed.size());
   for (size_t i = 0; i < mixed.size(); ++i) {
-    if ((i & 1023) == 0) progress.update("transfer", 0.8 + 0.2 * double(i) / double(mixed.size()));
+    if ((i & 1023) == 0) progress.update("transfer", 0.8 + 0.15 * double(i) / double(mixed.size()));
     const uint32_t t = mixed[i];
     const double area3 = triangle_area(soup, t);
     int charts[3] = {chart_of(3 * t), chart_of(3 * t + 1), chart_of(3 * t + 2)};
-    double best_err = INFINITY;
-    std::array<SurfacePoint, 3> best_land;
-    std::array<Vec2, 3> best_uv;
     for (int k = 0; k < 3; ++k) {
       int chart = charts[k];
       if ((k > 0 && chart == charts[0]) || (k > 1 && chart == charts[1])) continue;  // tried
-      std::array<SurfacePoint, 3> land;
-      std::array<Vec2, 3> uv;
+      Candidate& cand = candidates[i][k];
+      cand.chart = chart;
       for (int j = 0; j < 3; ++j) {
         if (charts[j] == chart) {
-          land[j] = landing[3 * t + j];
-          uv[j] = atlas_uv(atlas, land[j]);
+          cand.land[j] = landing[3 * t + j];
+          cand.uv[j] = atlas_uv(atlas, cand.land[j]);
           continue;
         }
         // The closest point of the chart sits on its boundary; the paper
@@ -96,34 +113,88 @@ ChartFixResult fix_chart_boundaries(const Soup& soup, const proxy::ProxyMesh& pr
         // (continuous across the seam, exact where the proxy is flat), as
         // long as that stays within four face sizes of the boundary.
         const Vec3 p = landing[3 * t + j].point;
-        land[j] = bvh_of(chart).closest_point(p);
-        uv[j] = atlas_uv(atlas, land[j]);
-        const auto& f = mesh.faces[land[j].face];
+        cand.land[j] = bvh_of(chart).closest_point(p);
+        cand.uv[j] = atlas_uv(atlas, cand.land[j]);
+        const auto& f = mesh.faces[cand.land[j].face];
         double size = std::max({norm(mesh.vertices[f[1]] - mesh.vertices[f[0]]),
                                 norm(mesh.vertices[f[2]] - mesh.vertices[f[1]]),
                                 norm(mesh.vertices[f[0]] - mesh.vertices[f[2]])});
-        if (norm(p - land[j].point) <= 4 * size) {
-          SurfacePoint extended = land[j];
-          extended.bary = plane_barycentric(mesh, land[j].face, p);
-          uv[j] = atlas_uv(atlas, extended);
+        if (norm(p - cand.land[j].point) <= 4 * size) {
+          SurfacePoint extended = cand.land[j];
+          extended.bary = plane_barycentric(mesh, cand.land[j].face, p);
+          cand.uv[j] = atlas_uv(atlas, extended);
           // A chart packed against the atlas border must not extend past it.
-          uv[j].x = std::clamp(uv[j].x, 0.0, 1.0);
-          uv[j].y = std::clamp(uv[j].y, 0.0, 1.0);
+          cand.uv[j].x = std::clamp(cand.uv[j].x, 0.0, 1.0);
+          cand.uv[j].y = std::clamp(cand.uv[j].y, 0.0, 1.0);
         }
       }
-      double err = std::abs(uv_area(uv[0], uv[1], uv[2]) / scale2 - area3);
-      if (err < best_err) {
-        best_err = err;
-        best_land = land;
-        best_uv = uv;
-      }
+      // §8's measure, relative to the 3D area; a flipped result costs more
+      // than any disagreement with the neighbours can.
+      const double signed_uv = 0.5 * cross(cand.uv[1] - cand.uv[0], cand.uv[2] - cand.uv[0]);
+      cand.cost = area3 > 0 ? std::abs(std::abs(signed_uv) / scale2 - area3) / area3 : 0;
+      if (sign * signed_uv < 0) cand.cost += 4;
     }
+  }
+
+  // The label of each triangle: its chart, or for a mixed one the chosen
+  // candidate. Paper's rule: the least cost. With neighbours, iterated
+  // conditional modes add one per neighbour on another chart, so the seam
+  // runs along soup edges instead of zig-zagging through the band of mixed
+  // triangles (every neighbour pair on two charts is a cut in the texture).
+  std::vector<int> label(soup.triangles.size());
+  std::vector<int32_t> mixed_index(soup.triangles.size(), -1);
+  for (size_t t = 0; t < soup.triangles.size(); ++t) label[t] = chart_of(3 * t);
+  auto best_alone = [&](size_t i) {
+    int best = -1;
+    for (int k = 0; k < 3; ++k)
+      if (candidates[i][k].chart >= 0 && (best < 0 || candidates[i][k].cost < candidates[i][best].cost))
+        best = k;
+    return best;
+  };
+  std::vector<int> choice(mixed.size());
+  for (size_t i = 0; i < mixed.size(); ++i) {
+    mixed_index[mixed[i]] = int32_t(i);
+    choice[i] = best_alone(i);
+    label[mixed[i]] = candidates[i][choice[i]].chart;
+  }
+  if (neighbours && !neighbours->empty()) {
+    const size_t n = soup.triangles.size();
+    std::vector<uint32_t> start(n + 1, 0);
+    for (const auto& p : *neighbours) { ++start[p.a + 1]; ++start[p.b + 1]; }
+    for (size_t i = 0; i < n; ++i) start[i + 1] += start[i];
+    std::vector<uint32_t> fill(start.begin(), start.end() - 1), nbr(start[n]);
+    for (const auto& p : *neighbours) { nbr[fill[p.a]++] = p.b; nbr[fill[p.b]++] = p.a; }
+    for (int sweep = 0; sweep < 8; ++sweep) {
+      size_t changed = 0;
+      for (size_t i = 0; i < mixed.size(); ++i) {
+        const uint32_t t = mixed[i];
+        int best = choice[i];
+        double best_cost = INFINITY;
+        for (int k = 0; k < 3; ++k) {
+          const Candidate& c = candidates[i][k];
+          if (c.chart < 0) continue;
+          double cost = c.cost;
+          for (uint32_t e = start[t]; e < start[t + 1]; ++e) cost += label[nbr[e]] != c.chart;
+          if (cost < best_cost) { best_cost = cost; best = k; }
+        }
+        if (best != choice[i]) {
+          choice[i] = best;
+          label[t] = candidates[i][best].chart;
+          ++changed;
+        }
+      }
+      if (changed == 0) break;
+    }
+  }
+  for (size_t i = 0; i < mixed.size(); ++i) {
+    const uint32_t t = mixed[i];
+    const Candidate& c = candidates[i][choice[i]];
     bool changed = false;
     for (int j = 0; j < 3; ++j) {
-      changed |= best_land[j].face != landing[3 * t + j].face;
-      landing[3 * t + j] = best_land[j];
+      changed |= c.land[j].face != landing[3 * t + j].face;
+      landing[3 * t + j] = c.land[j];
     }
-    corner_uvs[t] = best_uv;
+    corner_uvs[t] = c.uv;
     r.corrected_triangles += changed;
   }
   return r;

@@ -76,6 +76,20 @@ nlohmann::json TransferResult::diagnostics() const {
 TransferResult transfer_uvs(const Soup& soup, const field::FieldLines& lines,
                             const proxy::ProxyMesh& proxy, const atlas::Atlas& atlas,
                             const TransferOptions& options, Progress& progress) {
+  const size_t corners = soup.triangles.size() * 3;
+  std::vector<uint32_t> line_of_corner(corners, UINT32_MAX);
+  for (size_t i = 0; i < lines.size(); ++i) {
+    if (lines.corner[i] >= corners)
+      throw Error(ErrorCode::internal, "transfer: a field line names a corner the soup lacks");
+    line_of_corner[lines.corner[i]] = uint32_t(i);
+  }
+  return transfer_uvs(soup, lines, line_of_corner, proxy, atlas, options, progress);
+}
+
+TransferResult transfer_uvs(const Soup& soup, const field::FieldLines& lines,
+                            const std::vector<uint32_t>& line_of_corner,
+                            const proxy::ProxyMesh& proxy, const atlas::Atlas& atlas,
+                            const TransferOptions& options, Progress& progress) {
   auto t0 = std::chrono::steady_clock::now();
   const TriMesh& mesh = proxy.mesh;
   if (mesh.faces.empty()) throw Error(ErrorCode::internal, "transfer: the proxy has no faces");
@@ -83,16 +97,21 @@ TransferResult transfer_uvs(const Soup& soup, const field::FieldLines& lines,
     throw Error(ErrorCode::internal, "transfer: the atlas does not match the proxy");
   if (lines.offsets.size() != lines.size() + 1 || lines.corner.size() != lines.size())
     throw Error(ErrorCode::internal, "transfer: malformed field lines");
+  const size_t corners = soup.triangles.size() * 3;
+  if (line_of_corner.size() != corners)
+    throw Error(ErrorCode::internal, "transfer: the corner-to-line map does not match the soup");
+  for (size_t i = 0; i < lines.size(); ++i)
+    if (lines.corner[i] >= corners)
+      throw Error(ErrorCode::internal, "transfer: a field line names a corner the soup lacks");
 
   progress.update("transfer", 0);
   TriangleBvh bvh(mesh);
   const double ray_length = ray_length_for(mesh);
 
-  const size_t corners = soup.triangles.size() * 3;
   TransferResult r;
   r.lines = lines.size();
-  r.landing.assign(corners, SurfacePoint{});
-  std::vector<uint8_t> has_line(corners, 0);
+  std::vector<SurfacePoint> line_landing(lines.size());
+  std::vector<uint8_t> line_missed(lines.size(), 0);
   std::atomic<size_t> hits{0}, ray{0}, closest{0}, done{0};
 
   const long long n = static_cast<long long>(lines.size());
@@ -102,10 +121,11 @@ TransferResult transfer_uvs(const Soup& soup, const field::FieldLines& lines,
   for (long long i = 0; i < n; ++i) {
     if (canceled) continue;
     uint32_t c = lines.corner[i];
-    if (c >= corners) continue;  // checked below: no line may name a missing corner
-    has_line[c] = 1;
     Landing how;
-    r.landing[c] = land_line(bvh, lines, size_t(i), soup.corner(c / 3, c % 3), ray_length, how);
+    // The closest-point fallback starts from the line's own start, which is
+    // the corner for per-corner lines and near every copy for shared ones.
+    line_landing[i] = land_line(bvh, lines, size_t(i), soup.corner(c / 3, c % 3), ray_length, how);
+    line_missed[i] = how != Landing::hit;
     if (how == Landing::hit) ++hits;
     else if (how == Landing::ray) ++ray;
     else ++closest;
@@ -119,24 +139,32 @@ TransferResult transfer_uvs(const Soup& soup, const field::FieldLines& lines,
     }
   }
   if (canceled) progress.check_canceled();
-  for (size_t i = 0; i < lines.size(); ++i)
-    if (lines.corner[i] >= corners)
-      throw Error(ErrorCode::internal, "transfer: a field line names a corner the soup lacks");
 
+  r.landing.resize(corners);
+  r.missed.assign(corners, 0);
   for (size_t c = 0; c < corners; ++c) {
-    if (has_line[c]) continue;
+    const uint32_t l = line_of_corner[c];
+    if (l < lines.size()) {
+      r.landing[c] = line_landing[l];
+      r.missed[c] = line_missed[l];
+      continue;
+    }
     r.landing[c] = bvh.closest_point(soup.corner(c / 3, c % 3));
+    r.missed[c] = 1;
     ++r.untraced_corners;
   }
   r.hits = hits;
   r.fallback_ray = ray;
   r.fallback_closest = closest + r.untraced_corners;
+  r.first_chart.resize(corners);
+  for (size_t c = 0; c < corners; ++c) r.first_chart[c] = atlas.face_chart[r.landing[c].face];
 
   r.corner_uvs.resize(soup.triangles.size());
   for (size_t c = 0; c < corners; ++c) r.corner_uvs[c / 3][c % 3] = atlas_uv(atlas, r.landing[c]);
 
   if (options.fix_chart_boundaries) {
-    ChartFixResult fix = fix_chart_boundaries(soup, proxy, atlas, r.landing, r.corner_uvs, progress);
+    ChartFixResult fix = fix_chart_boundaries(soup, proxy, atlas, r.landing, r.corner_uvs, progress,
+                                                 options.neighbours);
     r.multi_chart_triangles = fix.multi_chart_triangles;
     r.corrected_triangles = fix.corrected_triangles;
   } else {

@@ -46,6 +46,12 @@ UvMetrics uv_metrics(const Soup& soup, const CornerUvs& uvs,
                      const std::vector<AdjacentPair>& adjacency,
                      const UvMetricsOptions& options = {});
 
+// Area-weighted L2 stretch over the triangles with include[t] != 0, at a
+// given global scale (UvMetrics::uv_per_length convention: the normalisation
+// the full figure used), so parts of a map can be compared with the whole.
+double stretch_l2_subset(const Soup& soup, const CornerUvs& uvs,
+                         const std::vector<uint8_t>& include, double scale);
+
 // The adjacency for metrics: exact from `original` (a welded mesh with the
 // same triangle order as `soup`), else by welding the soup within
 // `weld_tolerance` (absolute).

@@ -23,7 +23,8 @@ struct Weld {
   uint32_t vertex_count = 0;
 };
 
-// edge_fraction > 0 additionally refuses to weld two corners farther apart
+// Welds go nearest pair first and never join two corners of one triangle,
+// even transitively. edge_fraction > 0 additionally refuses to weld two corners farther apart
 // than edge_fraction times the shortest edge of either corner's triangle, so
 // a tolerance close to the edge length cannot collapse whole regions.
 Weld weld_corners(const Soup& soup, double tolerance, double edge_fraction = 0);

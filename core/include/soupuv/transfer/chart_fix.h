@@ -10,6 +10,12 @@
 //         map extended to its landing point (within four face sizes), not
 //         the boundary point's own UV: the triangle keeps its shape instead
 //         of being squashed against the seam.
+//         A moved triangle whose UV orientation flips pays a fixed penalty.
+//         With the soup's near-neighbour graph, the choice also weighs the
+//         neighbours' charts (iterated conditional modes: cost = relative area
+//         error + 1 per neighbour labelled with another chart), so the cut in
+//         the texture follows soup edges rather than zig-zagging; without it,
+//         each triangle chooses alone as in the paper.
 // Cost  : one BVH per chart, built once: O(n log n); O(log n) per moved corner.
 #pragma once
 
@@ -19,6 +25,7 @@
 #include "soupuv/atlas/atlas.h"
 #include "soupuv/progress.h"
 #include "soupuv/proxy/proxy_mesh.h"
+#include "soupuv/quality/weld.h"
 #include "soupuv/soup.h"
 #include "soupuv/transfer/triangle_bvh.h"
 
@@ -34,6 +41,7 @@ ChartFixResult fix_chart_boundaries(const Soup& soup, const proxy::ProxyMesh& pr
                                     const atlas::Atlas& atlas,
                                     std::vector<SurfacePoint>& landing,
                                     std::vector<std::array<Vec2, 3>>& corner_uvs,
-                                    Progress& progress);
+                                    Progress& progress,
+                                    const std::vector<quality::AdjacentPair>* neighbours = nullptr);
 
 }  // namespace soupuv::transfer

@@ -23,6 +23,7 @@
 #include "soupuv/field/field_lines.h"
 #include "soupuv/progress.h"
 #include "soupuv/proxy/proxy_mesh.h"
+#include "soupuv/quality/weld.h"
 #include "soupuv/soup.h"
 #include "soupuv/transfer/triangle_bvh.h"
 
@@ -30,12 +31,20 @@ namespace soupuv::transfer {
 
 struct TransferOptions {
   bool fix_chart_boundaries = true;  // §8
+  // The soup's near-neighbour graph (a weld's edge adjacency) for the §8
+  // choice, so neighbours pick the same chart (chart_fix.h); nullptr: each
+  // triangle alone. Must outlive the call.
+  const std::vector<quality::AdjacentPair>* neighbours = nullptr;
   int threads = 0;                   // OpenMP threads; 0 = default
 };
 
 struct TransferResult {
   std::vector<std::array<Vec2, 3>> corner_uvs;  // per soup triangle
   std::vector<SurfacePoint> landing;            // per corner (triangle*3+k): proxy face, bary
+  // Per corner, for the discontinuity breakdown: its line missed the proxy
+  // (a fallback placed it), and the chart it landed on before the §8 correction.
+  std::vector<uint8_t> missed;
+  std::vector<int> first_chart;
   size_t lines = 0;
   size_t hits = 0;              // lines whose polyline crosses the proxy
   size_t fallback_ray = 0;      // missed; the extended last direction hit
@@ -49,6 +58,14 @@ struct TransferResult {
 };
 
 TransferResult transfer_uvs(const Soup& soup, const field::FieldLines& lines,
+                            const proxy::ProxyMesh& proxy, const atlas::Atlas& atlas,
+                            const TransferOptions& options = {},
+                            Progress& progress = Progress::none());
+
+// Same, when lines are shared: line_of_corner[c] is the line of soup corner c
+// (UINT32_MAX: none, the closest-point fallback); each line lands once.
+TransferResult transfer_uvs(const Soup& soup, const field::FieldLines& lines,
+                            const std::vector<uint32_t>& line_of_corner,
                             const proxy::ProxyMesh& proxy, const atlas::Atlas& atlas,
                             const TransferOptions& options = {},
                             Progress& progress = Progress::none());

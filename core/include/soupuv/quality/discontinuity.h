@@ -1,0 +1,51 @@
+// Why a field-line map is discontinuous: each originally adjacent pair that
+// fails the continuity test, and each flipped triangle, put down to one cause.
+//
+// Input : the soup, its metric adjacency, final corner UVs, the scale the
+//         metric used, and per corner what the transfer saw: the line missed
+//         the proxy, the chart it first landed on and the chart it ended on
+//         after the §8 correction.
+// Output: counts per cause (first matching cause wins, in this order):
+//   missed      a shared corner's line missed the proxy (a fallback placed it);
+//   split       the two copies of a shared corner landed on different charts;
+//   corrected   they landed on one chart, but §8 moved one of them elsewhere;
+//   diverged    one chart throughout, yet the landing points lie apart
+//               (the lines parted between soup and proxy);
+// and flipped triangles as line crossings (all corners on one chart, no
+// miss) or chart/miss trouble (the rest); the L2 stretch of both groups.
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "soupuv/quality/uv_metrics.h"
+#include "soupuv/quality/weld.h"
+#include "soupuv/soup.h"
+
+namespace soupuv::quality {
+
+struct CornerLanding {
+  std::vector<uint8_t> missed;    // per corner (triangle * 3 + k)
+  std::vector<int> first_chart;   // before §8
+  std::vector<int> final_chart;   // after §8
+};
+
+struct DiscontinuityBreakdown {
+  size_t pairs = 0, discontinuous = 0;
+  size_t missed = 0, split = 0, corrected = 0, diverged = 0;
+  size_t flipped = 0, flipped_one_chart = 0, flipped_other = 0;
+  // L2 stretch (uv_metrics' normalisation) of the triangles whose corners all
+  // hit one chart, and of the others (chart correction or fallback placed them).
+  double stretch_l2_one_chart = 0, stretch_l2_other = 0;
+  size_t one_chart_triangles = 0;
+  nlohmann::json to_json() const;
+};
+
+DiscontinuityBreakdown discontinuity_breakdown(const Soup& soup, const CornerUvs& uvs,
+                                               const std::vector<AdjacentPair>& adjacency,
+                                               const CornerLanding& landing,
+                                               int texture_size, double uv_per_length);
+
+}  // namespace soupuv::quality
