@@ -1,16 +1,32 @@
 // soupuv-bench trace: paper Table 5. Torus (R=1, r=0.5) at 800 ... 204,800
-// triangles: trace 50 midpoint steps from every corner with the FMM, and by
-// direct summation up to 12,800 triangles (--direct-max N). field_rel_error
-// is the largest |E_fmm - E_direct| / |E_direct| over up to 200 points
-// sampled along the FMM lines. Also: how far line end points move when the
-// charge tolerance or the FMM order is loosened (which accuracy is enough).
+// triangles: 50 midpoint steps from every unique mesh vertex (as the paper;
+// `--seeds corners` traces every triangle corner instead) with the FMM, and by
+// direct summation up to 12,800 triangles (--direct-max N). Direct runs on a
+// subset of lines when the full run would be long and is scaled per line
+// (the row says so: direct_lines_measured < lines).
+//
+// field_rel_error: max |E_fmm - E_direct| / |E_direct| over points sampled
+// along the FMM lines at several step indices (from next to the surface to
+// the line ends), evaluated by the tracer's own evaluator (TracerField);
+// the row also gives the error over the samples outside every triangle's
+// near zone, and the fraction of samples inside one.
+//
+// Non-quick also: which accuracy is enough (rows kind "accuracy"): how far
+// line end points move when the charge tolerance (1e-3 ... 1e-7) or the
+// tracer's FMM order is loosened, against a tight reference.
+//
+// Tuning flags: --order P --theta T --leaf K (tracer FMM), --max-triangles N,
+// --no-study, --study-only, --study-triangles N.
 #include <algorithm>
 #include <cstdio>
+#include <limits>
+#include <string>
 
 #include "bench_registry.h"
 #include "soupuv/field/direct.h"
 #include "soupuv/field/field.h"
 #include "soupuv/field/fmm.h"
+#include "soupuv/field/tracer_field.h"
 #include "soupuv/shapes.h"
 
 using namespace soupuv;
@@ -18,15 +34,49 @@ using namespace soupuv::field;
 
 namespace {
 
-double sampled_field_error(const ChargeResult& c, const FieldLines& lines, const TraceOptions& o) {
+// One seed per unique mesh vertex, along its area-weighted normal (side 0:
+// the tracer picks the outer side). `corner` names the vertex's first corner.
+std::vector<TraceSeed> vertex_seeds(const TriMesh& mesh) {
+  std::vector<TraceSeed> seeds(mesh.vertices.size());
+  std::vector<bool> seen(mesh.vertices.size(), false);
+  for (size_t t = 0; t < mesh.faces.size(); ++t) {
+    const auto& f = mesh.faces[t];
+    Vec3 n = cross(mesh.vertices[f[1]] - mesh.vertices[f[0]], mesh.vertices[f[2]] - mesh.vertices[f[0]]);
+    for (int k = 0; k < 3; ++k) {
+      TraceSeed& s = seeds[f[k]];
+      if (!seen[f[k]]) {
+        seen[f[k]] = true;
+        s.position = mesh.vertices[f[k]];
+        s.normal = {0, 0, 0};
+        s.corner = static_cast<uint32_t>(t * 3 + k);
+      }
+      s.normal += n;
+    }
+  }
+  std::vector<TraceSeed> out;
+  for (size_t v = 0; v < seeds.size(); ++v)
+    if (seen[v]) out.push_back(seeds[v]);
+  return out;
+}
+
+struct SampledError {
+  double max = 0, max_far = 0, near_fraction = 0;
+  size_t samples = 0;
+};
+
+// Samples up to ~40 lines at step indices 0, 1, 2, 4, 8, 16, 32, 50 (when the
+// line has them) and compares the tracer's evaluator with direct summation.
+SampledError sampled_field_error(const ChargeResult& c, const FieldLines& lines, const TraceOptions& o) {
   SourceGeometry src = make_sources(c.positions, c.triangles, c.quadrature_degree);
   std::vector<Vec3> xs;
-  size_t stride = std::max<size_t>(1, lines.points.size() / 200);
-  for (size_t i = 0; i < lines.points.size(); i += stride) xs.push_back(lines.points[i]);
+  const size_t stride = std::max<size_t>(1, lines.size() / 40);
+  for (size_t i = 0; i < lines.size(); i += stride) {
+    const uint32_t a = lines.offsets[i], b = lines.offsets[i + 1];
+    for (uint32_t k : {1u, 2u, 3u, 5u, 9u, 17u, 33u, 51u})
+      if (a + k < b) xs.push_back(lines.points[a + k]);
+  }
   std::vector<Vec3> Ed;
   direct_sum(src, c.charges, xs, nullptr, &Ed);
-  // The same target region the tracer uses (a cube around its stop sphere),
-  // so the sampled error is the tracer's own FMM error.
   Box3 box;
   for (Vec3 p : c.positions) box.add(p);
   const double R = o.stop_radius;
@@ -38,14 +88,23 @@ double sampled_field_error(const ChargeResult& c, const FieldLines& lines, const
   fo.theta = o.fmm_theta;
   fo.leaf_size = o.fmm_leaf_size;
   Fmm fmm(src, fo, region);
-  fmm.set_charges(c.charges);
-  double worst = 0;
+  TracerField tf(fmm, c.charges);
+  SampledError r;
+  size_t near = 0;
   for (size_t i = 0; i < xs.size(); ++i) {
     Vec3 E{0, 0, 0};
-    fmm.evaluate(xs[i], nullptr, &E);
-    worst = std::max(worst, norm(E - Ed[i]) / norm(Ed[i]));
+    double nearest = 0;
+    const int leaf = tf.locate(xs[i]);
+    tf.prepare({leaf});
+    tf.field(leaf, &xs[i], 1, &E, &nearest);
+    const double err = norm(E - Ed[i]) / norm(Ed[i]);
+    r.max = std::max(r.max, err);
+    if (nearest < std::numeric_limits<double>::infinity()) ++near;
+    else r.max_far = std::max(r.max_far, err);
   }
-  return worst;
+  r.samples = xs.size();
+  r.near_fraction = xs.empty() ? 0 : double(near) / xs.size();
+  return r;
 }
 
 double end_shift(const FieldLines& a, const FieldLines& b) {
@@ -55,98 +114,158 @@ double end_shift(const FieldLines& a, const FieldLines& b) {
   return worst;
 }
 
-int run_trace(const bench::Args& args) {
-  // --quick (CI, about a minute on 2 busy cores): two sizes, direct only at the smallest.
-  size_t max_tris = args.quick ? 1800 : 204800, direct_max = args.quick ? 800 : 12800;
-  for (size_t i = 0; i + 1 < args.rest.size(); ++i) {
-    if (args.rest[i] == "--max-triangles") max_tris = std::stoul(args.rest[i + 1]);
-    if (args.rest[i] == "--direct-max") direct_max = std::stoul(args.rest[i + 1]);
-  }
+struct Flags {
+  size_t max_tris = 204800, direct_max = 12800, study_tris = 12800;
+  bool corners = false, study = true, table = true;
+  TraceOptions trace;
+};
+
+TraceOptions table5_options(const Flags& f) {
+  TraceOptions o = f.trace;
+  o.max_steps = 50;
+  o.step = 0.02;
+  o.stop_radius = 100;  // 50 full steps for every line
+  return o;
+}
+
+void run_table5(const Flags& f, const bench::Args& args) {
   std::vector<int> sizes = {800, 1800, 3200, 6400, 12800, 25600, 51200, 105800, 204800};
   std::vector<double> fx, fy, dx, dy;
-  double ratio_at_max_direct = NAN;
+  double ratio_at_max_direct = NAN, fmm_at_max_direct = NAN;
   for (int n : sizes) {
-    if (static_cast<size_t>(n) > max_tris) break;
-    Soup soup = shapes::to_soup(shapes::torus_with(1.0, 0.5, n));
+    if (static_cast<size_t>(n) > f.max_tris) break;
+    TriMesh mesh = shapes::torus_with(1.0, 0.5, n);
+    Soup soup = shapes::to_soup(mesh);
     ChargeOptions co;
     co.tolerance = 1e-5;
     ChargeResult c = solve_charges(soup, co);
-    auto seeds = corner_seeds(soup);
-    TraceOptions o;
-    o.max_steps = 50;
-    o.step = 0.02;
-    o.stop_radius = 100;  // 50 full steps for every line
+    std::fprintf(stderr, "trace n=%d: charges in %.2fs\n", n, c.seconds);
+    auto seeds = f.corners ? corner_seeds(soup) : vertex_seeds(mesh);
+    TraceOptions o = table5_options(f);
     o.keep_points = n <= 51200;
     TraceStats st;
     FieldLines lines = trace_field_lines(c, seeds, o, Progress::none(), &st);
-    double err = o.keep_points ? sampled_field_error(c, lines, o) : NAN;
+    SampledError err;
+    if (o.keep_points) err = sampled_field_error(c, lines, o);
     bench::emit({{"suite", "trace"}, {"shape", "torus"}, {"triangles", n}, {"method", "fmm"},
-                 {"integrator", "midpoint"}, {"steps", 50}, {"lines", lines.size()}, {"seconds", st.seconds},
+                 {"integrator", "midpoint"}, {"steps", 50}, {"lines", lines.size()},
+                 {"seeds", f.corners ? "corners" : "unique mesh vertices"}, {"seconds", st.seconds},
                  {"build_seconds", st.build_seconds}, {"evaluations", st.evaluations},
-                 {"threads", bench::threads()}, {"field_rel_error", err}, {"fmm_order", o.fmm_order},
-                 {"fmm_theta", o.fmm_theta}, {"peak_rss_mb", bench::peak_rss_mb()}});
-    std::fprintf(stderr, "trace fmm n=%d: %.2fs err %.1e\n", n, st.seconds, err);
+                 {"threads", bench::threads()},
+                 {"field_rel_error", o.keep_points ? err.max : NAN},
+                 {"field_rel_error_outside_near_zone", o.keep_points ? err.max_far : NAN},
+                 {"error_samples", err.samples}, {"error_samples_near_fraction", err.near_fraction},
+                 {"fmm_order", o.fmm_order}, {"fmm_theta", o.fmm_theta}, {"fmm_leaf_size", o.fmm_leaf_size},
+                 {"peak_rss_mb", bench::peak_rss_mb()}});
+    std::fprintf(stderr, "trace fmm n=%d lines=%zu: %.2fs (build %.2fs) err %.1e (far %.1e, near %.0f%%)\n", n,
+                 lines.size(), st.seconds, st.build_seconds, err.max, err.max_far, 100 * err.near_fraction);
     fx.push_back(n);
     fy.push_back(st.seconds);
-    if (static_cast<size_t>(n) <= direct_max) {
-      TraceOptions d = o;
-      d.direct = true;
-      TraceStats sd;
-      FieldLines dl = trace_field_lines(c, seeds, d, Progress::none(), &sd);
-      bench::emit({{"suite", "trace"}, {"shape", "torus"}, {"triangles", n}, {"method", "direct"},
-                   {"integrator", "midpoint"}, {"steps", 50}, {"lines", dl.size()}, {"seconds", sd.seconds},
-                   {"threads", bench::threads()}, {"field_rel_error", 0.0},
-                   {"end_point_shift_vs_fmm", end_shift(lines, dl)}});
-      std::fprintf(stderr, "trace direct n=%d: %.2fs\n", n, sd.seconds);
-      dx.push_back(n);
-      dy.push_back(sd.seconds);
-      ratio_at_max_direct = sd.seconds / st.seconds;
-    }
-  }
-  // Which accuracy is enough: end-point movement when loosening the charge
-  // tolerance and the tracer's FMM order, against a tight reference.
-  {
-    int n = args.quick ? 800 : 12800;
-    Soup soup = shapes::to_soup(shapes::torus_with(1.0, 0.5, n));
-    auto seeds = corner_seeds(soup);
-    TraceOptions o;
-    o.max_steps = 50;
-    o.step = 0.02;
-    o.stop_radius = 100;
-    ChargeOptions tight;
-    tight.tolerance = 1e-8;
-    ChargeResult ct = solve_charges(soup, tight);
-    TraceOptions ref_o = o;
-    ref_o.fmm_order = 10;
-    FieldLines ref = trace_field_lines(ct, seeds, ref_o);
-    const std::vector<double> tolerances =
-        args.quick ? std::vector<double>{1e-2, 1e-5} : std::vector<double>{1e-2, 1e-3, 1e-4, 1e-5, 1e-6};
-    for (double tol : tolerances) {
-      ChargeOptions co;
-      co.tolerance = tol;
-      ChargeResult c = solve_charges(soup, co);
-      FieldLines l = trace_field_lines(c, seeds, ref_o);
-      bench::emit({{"suite", "trace"}, {"kind", "accuracy"}, {"shape", "torus"}, {"triangles", n},
-                   {"method", "fmm"}, {"integrator", "midpoint"}, {"steps", 50}, {"charge_tolerance", tol},
-                   {"charge_error", c.max_rel_potential_error}, {"seconds", c.seconds}, {"threads", bench::threads()},
-                   {"max_end_point_shift", end_shift(l, ref)}, {"step", o.step}});
-    }
-    const std::vector<int> orders = args.quick ? std::vector<int>{4, 6} : std::vector<int>{2, 4, 6, 8};
-    for (int p : orders) {
-      TraceOptions po = o;
-      po.fmm_order = p;
-      TraceStats st;
-      FieldLines l = trace_field_lines(ct, seeds, po, Progress::none(), &st);
-      bench::emit({{"suite", "trace"}, {"kind", "accuracy"}, {"shape", "torus"}, {"triangles", n},
-                   {"method", "fmm"}, {"integrator", "midpoint"}, {"steps", 50}, {"fmm_order", p},
-                   {"seconds", st.seconds}, {"threads", bench::threads()},
-                   {"max_end_point_shift", end_shift(l, ref)}, {"step", o.step}});
-    }
+    if (static_cast<size_t>(n) > f.direct_max) continue;
+    // Direct summation costs n per evaluation: measure on at most ~2e9
+    // point-triangle pairs' worth of lines and scale per line.
+    const double pairs_per_line = 100.0 * n;
+    const size_t budget = args.quick ? 2e8 : 4e9;
+    size_t every = std::max<size_t>(1, static_cast<size_t>(seeds.size() * pairs_per_line / budget));
+    std::vector<TraceSeed> sub;
+    for (size_t i = 0; i < seeds.size(); i += every) sub.push_back(seeds[i]);
+    TraceOptions d = o;
+    d.direct = true;
+    TraceStats sd;
+    FieldLines dl = trace_field_lines(c, sub, d, Progress::none(), &sd);
+    const double scaled = sd.seconds * double(seeds.size()) / sub.size();
+    FieldLines fl = trace_field_lines(c, sub, o);  // the FMM's lines for the same seeds
+    bench::emit({{"suite", "trace"}, {"shape", "torus"}, {"triangles", n}, {"method", "direct"},
+                 {"integrator", "midpoint"}, {"steps", 50}, {"lines", seeds.size()},
+                 {"direct_lines_measured", sub.size()}, {"seconds", scaled}, {"seconds_measured", sd.seconds},
+                 {"threads", bench::threads()}, {"field_rel_error", 0.0},
+                 {"end_point_shift_vs_fmm", end_shift(fl, dl)}});
+    std::fprintf(stderr, "trace direct n=%d: %.2fs for %zu lines, %.2fs scaled to %zu\n", n, sd.seconds,
+                 sub.size(), scaled, seeds.size());
+    dx.push_back(n);
+    dy.push_back(scaled);
+    ratio_at_max_direct = scaled / st.seconds;
+    fmm_at_max_direct = st.seconds;
   }
   bench::emit({{"suite", "trace"}, {"kind", "summary"}, {"threads", bench::threads()},
+               {"seeds", f.corners ? "corners" : "unique mesh vertices"},
                {"slope", {{"fmm", bench::loglog_slope(fx, fy)}, {"direct", bench::loglog_slope(dx, dy)}}},
+               {"slope_fmm_from", fx.empty() ? 0.0 : fx.front()}, {"slope_fmm_to", fx.empty() ? 0.0 : fx.back()},
                {"direct_over_fmm_at_largest_direct", ratio_at_max_direct},
-               {"largest_direct_triangles", dx.empty() ? 0.0 : dx.back()}});
+               {"fmm_seconds_at_largest_direct", fmm_at_max_direct},
+               {"largest_direct_triangles", dx.empty() ? 0.0 : dx.back()},
+               {"fmm_seconds_at_largest", fy.empty() ? NAN : fy.back()}});
+}
+
+// Which accuracy is enough: end points against a reference charged to 1e-8
+// and traced with p = 10, as the charge tolerance or the tracer's order is loosened.
+void run_study(const Flags& f) {
+  const int n = static_cast<int>(f.study_tris);
+  TriMesh mesh = shapes::torus_with(1.0, 0.5, n);
+  Soup soup = shapes::to_soup(mesh);
+  auto seeds = f.corners ? corner_seeds(soup) : vertex_seeds(mesh);
+  TraceOptions o = table5_options(f);
+  o.keep_points = false;
+  ChargeOptions tight;
+  tight.tolerance = 1e-8;
+  ChargeResult ct = solve_charges(soup, tight);
+  TraceOptions ref_o = o;
+  ref_o.fmm_order = 10;
+  FieldLines ref = trace_field_lines(ct, seeds, ref_o);
+  const double mean_edge = std::sqrt(4 * 3.14159265358979 * 3.14159265358979 * 0.5 / (n / 2.0));
+  for (double tol : {1e-3, 1e-4, 1e-5, 1e-6, 1e-7}) {
+    ChargeOptions co;
+    co.tolerance = tol;
+    ChargeResult c = solve_charges(soup, co);
+    FieldLines l = trace_field_lines(c, seeds, ref_o);
+    const double shift = end_shift(l, ref);
+    bench::emit({{"suite", "trace"}, {"kind", "accuracy"}, {"shape", "torus"}, {"triangles", n},
+                 {"method", "fmm"}, {"integrator", "midpoint"}, {"steps", 50}, {"lines", seeds.size()},
+                 {"charge_tolerance", tol}, {"charge_error", c.max_rel_potential_error},
+                 {"charge_seconds", c.seconds}, {"seconds", c.seconds}, {"threads", bench::threads()},
+                 {"fmm_order", ref_o.fmm_order}, {"max_end_point_shift", shift},
+                 {"shift_over_mean_edge", shift / mean_edge}, {"step", o.step}});
+    std::fprintf(stderr, "study tol %.0e: charge %.2fs err %.1e, end shift %.2e\n", tol, c.seconds,
+                 c.max_rel_potential_error, shift);
+  }
+  for (int p : {2, 3, 4, 5, 6, 8}) {
+    TraceOptions po = o;
+    po.fmm_order = p;
+    TraceStats st;
+    FieldLines l = trace_field_lines(ct, seeds, po, Progress::none(), &st);
+    const double shift = end_shift(l, ref);
+    bench::emit({{"suite", "trace"}, {"kind", "accuracy"}, {"shape", "torus"}, {"triangles", n},
+                 {"method", "fmm"}, {"integrator", "midpoint"}, {"steps", 50}, {"lines", seeds.size()},
+                 {"charge_tolerance", tight.tolerance}, {"fmm_order", p}, {"fmm_theta", po.fmm_theta},
+                 {"seconds", st.seconds}, {"threads", bench::threads()}, {"max_end_point_shift", shift},
+                 {"shift_over_mean_edge", shift / mean_edge}, {"step", o.step}});
+    std::fprintf(stderr, "study p=%d: trace %.2fs, end shift %.2e\n", p, st.seconds, shift);
+  }
+}
+
+int run_trace(const bench::Args& args) {
+  Flags f;
+  if (args.quick) {
+    // CI, about a minute on 2 busy cores: three sizes, direct at the smallest, no study.
+    f.max_tris = 3200;
+    f.direct_max = 800;
+    f.study = false;
+  }
+  for (size_t i = 0; i < args.rest.size(); ++i) {
+    const std::string& a = args.rest[i];
+    const bool has = i + 1 < args.rest.size();
+    if (a == "--max-triangles" && has) f.max_tris = std::stoul(args.rest[++i]);
+    else if (a == "--direct-max" && has) f.direct_max = std::stoul(args.rest[++i]);
+    else if (a == "--study-triangles" && has) f.study_tris = std::stoul(args.rest[++i]);
+    else if (a == "--order" && has) f.trace.fmm_order = std::stoi(args.rest[++i]);
+    else if (a == "--theta" && has) f.trace.fmm_theta = std::stod(args.rest[++i]);
+    else if (a == "--leaf" && has) f.trace.fmm_leaf_size = std::stoi(args.rest[++i]);
+    else if (a == "--seeds" && has) f.corners = args.rest[++i] == "corners";
+    else if (a == "--no-study") f.study = false;
+    else if (a == "--study-only") f.table = false;
+  }
+  if (f.table) run_table5(f, args);
+  if (f.study) run_study(f);
   return 0;
 }
 

@@ -62,9 +62,10 @@ class BatchField {
     fo.theta = o.fmm_theta;
     fo.threads = threads;
     fo.leaf_size = o.fmm_leaf_size;
+    // Trees and interaction lists only: TracerField computes the multipoles
+    // itself and local expansions only where tracers go.
     fmm_ = std::make_unique<Fmm>(src, fo, region);
-    fmm_->set_charges(charges);
-    tracer_ = std::make_unique<TracerField>(*fmm_);
+    tracer_ = std::make_unique<TracerField>(*fmm_, charges, threads);
   }
 
   void evaluate(const std::vector<Vec3>& x, std::vector<int>& leaf, std::vector<Vec3>& E,
@@ -83,12 +84,16 @@ class BatchField {
     std::sort(keys_.begin(), keys_.end());
     constexpr long kChunk = 32;
     chunks_.clear();
+    leaves_.clear();
     for (long s = 0; s < n;) {
       long e = s + 1;
       while (e < n && e - s < kChunk && (keys_[e] >> 32) == (keys_[s] >> 32)) ++e;
       chunks_.push_back({s, e});
+      const int lf = static_cast<int>(keys_[s] >> 32) - 1;
+      if (lf >= 0 && (leaves_.empty() || leaves_.back() != lf)) leaves_.push_back(lf);
       s = e;
     }
+    tracer_->prepare(leaves_);
     const long nc = static_cast<long>(chunks_.size());
 #pragma omp parallel num_threads(threads_)
     {
@@ -140,6 +145,7 @@ class BatchField {
   std::unique_ptr<TracerField> tracer_;
   std::vector<uint64_t> keys_;
   std::vector<std::pair<long, long>> chunks_;
+  std::vector<int> leaves_;
 };
 
 }  // namespace

@@ -1,24 +1,36 @@
 // The tracer's field evaluator: the field of fixed charged sources at many
-// moving points, built once on top of a charged Fmm (set_charges done).
+// moving points, on top of an Fmm's trees and interaction lists.
 //
-//   TracerField tf(fmm);                  // keeps a reference to fmm
-//   int leaf = tf.locate(x, old_leaf);    // target leaf of x (old_leaf: a guess)
-//   tf.field(leaf, xs, count, E, nearest);   // all xs lie in `leaf`
+//   Fmm fmm(sources, options, region);       // trees and lists; no set_charges needed
+//   TracerField tf(fmm, charges, threads);    // keeps a reference to fmm
+//   int leaf = tf.locate(x, old_leaf);        // target leaf of x (old_leaf: a guess)
+//   tf.prepare(leaves);                       // local expansions of these leaves
+//   tf.field(leaf, xs, count, E, nearest);    // all xs lie in `leaf`
 //
-// Inputs: the Fmm's frozen local expansions (L2P gives the far field) and its
-// per-target-leaf near lists. Outputs: E (added to) and, optionally, the
-// distance to the nearest triangle that `SourceGeometry::is_near` the point
-// (infinity if none), which the tracer uses to shorten steps.
+// Inputs: the Fmm's source tree, target tree, and per-target-cell M2L and
+// near lists; one charge per source triangle. Outputs: E (added to) and,
+// optionally, the distance to the nearest triangle that
+// `SourceGeometry::is_near` the point (infinity if none), which the tracer
+// uses to shorten steps.
 //
 // Why a separate evaluator: the sources never move while tracing, so a step
-// must only pay the target side. The near field runs over contiguous
-// structure-of-arrays copies of the quadrature points and charges (tree
-// order, so one source leaf is one contiguous range) with a vectorised loop;
-// a whole source leaf is skipped past the per-triangle test when a bounding
-// "guard" sphere proves none of its triangles is near the point, so the closed
-// form runs only for triangles really close. Points that share a target leaf
-// are evaluated together so a source leaf's data is loaded once for all.
-// Same model and results (to rounding) as Fmm::evaluate, the slow twin.
+// must only pay the target side.
+//  - Local expansions are computed lazily, only for target cells a tracer
+//    visits (and their ancestors): the target tree over the whole stop region
+//    has many cells around the surface that no line ever enters, and M2L there
+//    was most of the cost of Fmm::set_charges.
+//  - The near field runs over contiguous structure-of-arrays copies of the
+//    quadrature points and charges (tree order, so a source leaf is one
+//    contiguous range) with a vectorised loop; a whole source leaf skips the
+//    per-triangle test when a bounding "guard" sphere proves none of its
+//    triangles is near the point, and the closed form runs only for triangles
+//    really close (within 1.75 radii; from there to the model's 2.5 radii the
+//    degree-6 rule on the triangle's four midpoint children is as accurate,
+//    see tracer_field.cpp).
+//  - Points that share a target leaf are evaluated together, so a source
+//    leaf's data is loaded once for all of them.
+// Same model as Fmm::evaluate, the slow twin: equal to rounding except in the
+// split band, where the difference is below the model's quadrature error.
 #pragma once
 
 #include <cstddef>
@@ -31,19 +43,28 @@ namespace soupuv::field {
 
 class TracerField {
  public:
-  explicit TracerField(const Fmm& fmm);
+  // charges: one per source triangle (input order). threads: 0 = OpenMP default.
+  TracerField(const Fmm& fmm, const std::vector<double>& charges, int threads = 0);
 
   // Target leaf containing x, or -1 outside the target tree's root cube.
   // `hint`: a leaf x probably still lies in (the previous step's), checked first.
   int locate(Vec3 x, int hint = -1) const;
 
+  // Computes the local expansions of these target leaves (and of their
+  // ancestors) that are not computed yet. OpenMP inside; not concurrent with field().
+  void prepare(const std::vector<int>& leaves);
+
   // Adds the field at x[0..count) to E[0..count). Every x must lie in `leaf`
-  // (as returned by locate; -1 is allowed for points outside the tree). When
+  // (as returned by locate and passed to prepare; -1 is allowed for points
+  // outside the tree). When
   // nearest is given, nearest[i] receives the distance from x[i] to the
   // nearest triangle evaluated by its near rule (infinity if none).
   void field(int leaf, const Vec3* x, int count, Vec3* E, double* nearest) const;
 
   size_t memory_bytes() const;
+  // Target cells whose local expansion was computed, and M2L operations spent.
+  size_t expansions() const { return expansions_; }
+  size_t m2l_operations() const { return m2l_ops_; }
 
  private:
   // One source leaf: its triangles are tree positions [first, first + count),
@@ -55,11 +76,24 @@ class TracerField {
     int first = 0, count = 0;
   };
 
+  // Adds to e[0..3) the field at x of triangle j (charge q) that is_near x.
+  void near_triangle(size_t j, double q, Vec3 x, double* e) const;
+  // Field and nearest near triangle at a point outside the target tree.
+  void field_outside(Vec3 x, Vec3* E, double* nearest) const;
+  void upward_pass();
+
   const Fmm& fmm_;
   int m_;                                  // quadrature points per triangle
   std::vector<double> px_, py_, pz_, pq_;  // quadrature points and charges, tree order
+  std::vector<double> tri_charge_;         // per triangle, tree order
   std::vector<int> span_of_cell_;          // source cell -> index into spans_ (-1: not a leaf)
   std::vector<Span> spans_;
+  int threads_;
+  int ncoef_;
+  std::vector<double> M_;                  // multipole moments, ncoef_ per source cell
+  std::vector<int> slot_;                  // per target cell: its local expansion in L_, or -1
+  std::vector<double> L_;                  // ncoef_ per computed target cell
+  size_t expansions_ = 0, m2l_ops_ = 0;
 };
 
 }  // namespace soupuv::field
