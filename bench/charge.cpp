@@ -4,8 +4,11 @@
 // 800 up to 105,800 triangles: robin hood with direct and with FMM
 // initialisation, Krylov+FMM, and dense LU up to 6,400. Every row's
 // max_rel_potential_error is the true, re-evaluated deviation. Flags:
-// --max-triangles N (cap Table 4), --rh-seconds S (robin hood time cap).
+// --max-triangles N (cap Table 4), --rh-seconds S (robin hood time cap),
+// --tables 3,4 (which tables), --sizes 800,12800 (Table 4 sizes),
+// --methods krylov,robin-hood,robin-hood-direct-init,dense-lu.
 #include <cstdio>
+#include <ctime>
 #include <string>
 
 #include "bench_registry.h"
@@ -17,9 +20,23 @@ using namespace soupuv::field;
 
 namespace {
 
+std::vector<std::string> split(const std::string& list) {
+  std::vector<std::string> out;
+  size_t start = 0;
+  while (start <= list.size()) {
+    size_t end = list.find(',', start);
+    if (end == std::string::npos) end = list.size();
+    if (end > start) out.push_back(list.substr(start, end - start));
+    start = end + 1;
+  }
+  return out;
+}
+
 nlohmann::json run(const std::string& table, const std::string& shape, const Soup& soup, ChargeOptions o,
                    bool with_history) {
+  const std::clock_t c0 = std::clock();
   ChargeResult r = solve_charges(soup, o);
+  const double cpu = static_cast<double>(std::clock() - c0) / CLOCKS_PER_SEC;
   nlohmann::json row = {{"suite", "charge"},      {"table", table},
                         {"shape", shape},         {"triangles", soup.triangles.size()},
                         {"method", r.solver},     {"seconds", r.seconds},
@@ -32,6 +49,12 @@ nlohmann::json run(const std::string& table, const std::string& shape, const Sou
                         {"fmm_order", r.fmm_order},
                         {"fmm_theta", r.fmm_theta},
                         {"converged", r.converged},
+                        {"cpu_seconds", cpu},
+                        {"solve_cpu_seconds", r.solve_cpu_seconds},
+                        {"setup_seconds", r.setup_seconds},
+                        {"cheap_matvecs", r.cheap_matvecs},
+                        {"full_matvecs", r.full_matvecs},
+                        {"near_entries", r.near_entries},
                         {"peak_rss_mb", bench::peak_rss_mb()}};
   if (with_history) {
     nlohmann::json h = nlohmann::json::array();
@@ -40,18 +63,42 @@ nlohmann::json run(const std::string& table, const std::string& shape, const Sou
     row["history"] = h;
   }
   bench::emit(row);
-  std::fprintf(stderr, "charge %s %s n=%zu %s: %.2fs, %d it, err %.2e\n", table.c_str(), shape.c_str(),
-               soup.triangles.size(), r.solver.c_str(), r.seconds, r.iterations, r.max_rel_potential_error);
+  std::fprintf(stderr, "charge %s %s n=%zu %s: %.2fs (solve %.2fs, solve cpu %.2fs, setup %.2fs, cpu %.2fs), %d it (%d cheap, %d full), err %.2e\n",
+               table.c_str(), shape.c_str(), soup.triangles.size(), r.solver.c_str(), r.seconds, r.solve_seconds,
+               r.solve_cpu_seconds, r.setup_seconds, cpu, r.iterations, r.cheap_matvecs, r.full_matvecs, r.max_rel_potential_error);
   return row;
 }
 
 int run_charge(const bench::Args& args) {
   double rh_seconds = args.quick ? 5 : 120;
   size_t max_tris = args.quick ? 3200 : 105800;
+  std::string tables = "3,4", methods = "krylov,robin-hood,robin-hood-direct-init,dense-lu";
+  std::vector<int> sizes = {800, 1800, 3200, 6400, 12800, 25600, 51200, 105800};
+  ChargeOptions krylov_base;
   for (size_t i = 0; i + 1 < args.rest.size(); ++i) {
     if (args.rest[i] == "--max-triangles") max_tris = std::stoul(args.rest[i + 1]);
     if (args.rest[i] == "--rh-seconds") rh_seconds = std::stod(args.rest[i + 1]);
+    if (args.rest[i] == "--tables") tables = args.rest[i + 1];
+    // Krylov tuning knobs (defaults: ChargeOptions)
+    if (args.rest[i] == "--leaf") krylov_base.krylov_leaf_size = std::stoi(args.rest[i + 1]);
+    if (args.rest[i] == "--block") krylov_base.krylov_block_size = std::stoi(args.rest[i + 1]);
+    if (args.rest[i] == "--inner-order") krylov_base.krylov_inner_order = std::stoi(args.rest[i + 1]);
+    if (args.rest[i] == "--inner-tol") krylov_base.krylov_inner_tolerance = std::stod(args.rest[i + 1]);
+    if (args.rest[i] == "--order") krylov_base.fmm_order = std::stoi(args.rest[i + 1]);
+    if (args.rest[i] == "--theta") krylov_base.fmm_theta = std::stod(args.rest[i + 1]);
+    if (args.rest[i] == "--verify-direct-max") krylov_base.verify_direct_max = std::stoul(args.rest[i + 1]);
+    if (args.rest[i] == "--methods") methods = args.rest[i + 1];
+    if (args.rest[i] == "--sizes") {
+      sizes.clear();
+      for (const std::string& t : split(args.rest[i + 1])) sizes.push_back(std::stoi(t));
+      max_tris = SIZE_MAX;
+    }
   }
+  auto wanted = [](const std::string& list, const std::string& item) {
+    for (const std::string& t : split(list))
+      if (t == item) return true;
+    return false;
+  };
   const double tol = 1e-6;
   // Table 3
   struct Shape {
@@ -59,7 +106,8 @@ int run_charge(const bench::Args& args) {
     Soup soup;
   };
   std::vector<Shape> shapes3;
-  if (args.quick) {
+  if (!wanted(tables, "3")) {
+  } else if (args.quick) {
     shapes3 = {{"sphere", shapes::to_soup(shapes::sphere_with(1.0, 1200))},
                {"cube", shapes::to_soup(shapes::cube(1.0, 10))}};
   } else {
@@ -70,10 +118,13 @@ int run_charge(const bench::Args& args) {
   }
   double cube_krylov_seconds = 0;
   for (auto& s : shapes3) {
-    ChargeOptions k;
+    ChargeOptions k = krylov_base;
     k.tolerance = tol;
-    auto row = run("3", s.name, s.soup, k, true);
-    if (s.name == "cube") cube_krylov_seconds = row["seconds"];
+    if (wanted(methods, "krylov")) {
+      auto row = run("3", s.name, s.soup, k, true);
+      if (s.name == "cube") cube_krylov_seconds = row["seconds"];
+    }
+    if (!wanted(methods, "robin-hood")) continue;
     ChargeOptions rh;
     rh.solver = ChargeOptions::Solver::robin_hood;
     rh.tolerance = tol;
@@ -81,36 +132,40 @@ int run_charge(const bench::Args& args) {
     run("3", s.name, s.soup, rh, true);
   }
   // Table 4
-  std::vector<int> sizes = {800, 1800, 3200, 6400, 12800, 25600, 51200, 105800};
+  if (!wanted(tables, "4")) sizes.clear();
   std::map<std::string, std::pair<std::vector<double>, std::vector<double>>> fit;  // method -> (n, seconds)
   double krylov_last = 0, rh_last = 0;
   size_t n_last = 0;
   for (int n : sizes) {
     if (static_cast<size_t>(n) > max_tris) break;
     Soup soup = shapes::to_soup(shapes::torus_with(1.0, 0.5, n));
-    ChargeOptions k;
-    k.tolerance = tol;
-    auto rk = run("4", "torus", soup, k, false);
+    n_last = n;
+    if (wanted(methods, "krylov")) {
+      ChargeOptions k = krylov_base;
+      k.tolerance = tol;
+      auto rk = run("4", "torus", soup, k, false);
+      fit["krylov"].first.push_back(n);
+      fit["krylov"].second.push_back(rk["seconds"]);
+      krylov_last = rk["seconds"];
+    }
     ChargeOptions rh;
     rh.solver = ChargeOptions::Solver::robin_hood;
     rh.tolerance = tol;
     rh.max_seconds = rh_seconds;
-    auto rr = run("4", "torus", soup, rh, false);
-    fit["krylov"].first.push_back(n);
-    fit["krylov"].second.push_back(rk["seconds"]);
-    fit["robin-hood"].first.push_back(n);
-    fit["robin-hood"].second.push_back(rr["seconds"]);
-    krylov_last = rk["seconds"];
-    rh_last = rr["seconds"];
-    n_last = n;
-    if (n <= 12800) {
+    if (wanted(methods, "robin-hood")) {
+      auto rr = run("4", "torus", soup, rh, false);
+      fit["robin-hood"].first.push_back(n);
+      fit["robin-hood"].second.push_back(rr["seconds"]);
+      rh_last = rr["seconds"];
+    }
+    if (n <= 12800 && wanted(methods, "robin-hood-direct-init")) {
       ChargeOptions rd = rh;
       rd.direct_initialization = true;
       auto row = run("4", "torus", soup, rd, false);
       fit["robin-hood-direct-init"].first.push_back(n);
       fit["robin-hood-direct-init"].second.push_back(row["seconds"]);
     }
-    if (n <= 6400) {
+    if (n <= 6400 && wanted(methods, "dense-lu")) {
       ChargeOptions d;
       d.solver = ChargeOptions::Solver::dense_lu;
       auto row = run("4", "torus", soup, d, false);

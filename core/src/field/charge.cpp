@@ -1,6 +1,8 @@
 // solve_charges: refine, dispatch to a solver, normalise the total charge to
 // 1 and verify the potential by a fresh evaluation.
 #include <chrono>
+#include <cmath>
+#include <ctime>
 #include <numeric>
 
 #include "charge_solvers.h"
@@ -21,6 +23,7 @@ ChargeResult solve_charges(const Soup& soup, const ChargeOptions& options_in, Pr
   ChargeOptions options = options_in;
   if (options.fmm_order <= 0) options.fmm_order = fmm_order_for_tolerance(options.tolerance);
   auto t0 = std::chrono::steady_clock::now();
+  const std::clock_t c0 = std::clock();
   if (soup.triangles.empty()) throw Error(ErrorCode::no_triangles, "no triangles to charge");
   ChargeResult r;
   Refined refined = refine_large_triangles(soup, options.refine_area_ratio);
@@ -46,6 +49,7 @@ ChargeResult solve_charges(const Soup& soup, const ChargeOptions& options_in, Pr
   if (!(std::fabs(total) > 0)) throw Error(ErrorCode::internal, "charge solve produced zero total charge");
   for (double& q : r.charges) q /= total;
   r.solve_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  r.solve_cpu_seconds = static_cast<double>(std::clock() - c0) / CLOCKS_PER_SEC;
   progress.update("charge", 0.95);
   r.max_rel_potential_error = verify_potential(src, r.charges, options.verify_direct_max, options.threads,
                                                &r.verified_by, &r.mean_potential);

@@ -4,6 +4,7 @@
 #include <omp.h>
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 
 #include "soupuv/field/direct.h"
@@ -11,39 +12,59 @@
 
 namespace soupuv::field {
 
-CollocationOperator::CollocationOperator(const SourceGeometry& sources, const FmmOptions& options)
+CollocationOperator::CollocationOperator(const SourceGeometry& sources, const FmmOptions& options,
+                                         int cheap_order)
     : src_(sources), threads_(options.threads > 0 ? options.threads : omp_get_max_threads()) {
+  auto t0 = std::chrono::steady_clock::now();
   fmm_ = std::make_unique<Fmm>(src_, options, src_.centroid);
+  if (cheap_order > 0 && cheap_order < options.order) {
+    // Same tree and lists (they do not depend on the order), so the near
+    // matrix below is exactly the cheap FMM's near field too.
+    FmmOptions co = options;
+    co.order = cheap_order;
+    cheap_ = std::make_unique<Fmm>(src_, co, src_.centroid);
+  }
   const long n = static_cast<long>(src_.size());
   leaf_.resize(n);
-  std::vector<std::vector<std::pair<uint32_t, double>>> close(n);
-#pragma omp parallel for num_threads(threads_) schedule(dynamic, 64)
+  near_start_.assign(n + 1, 0);
+  leaf_cols_.resize(fmm_->stats().target_cells);
   for (long i = 0; i < n; ++i) {
     leaf_[i] = fmm_->locate(src_.centroid[i]);
-    for (uint32_t j : fmm_->near_source_triangles(leaf_[i]))
-      if (src_.is_near(j, src_.centroid[i]) && src_.area[j] > 0)
-        close[i].push_back({j, unit_potential(src_, j, src_.centroid[i])});
+    auto& cols = leaf_cols_[leaf_[i]];
+    if (cols.empty()) cols = fmm_->near_source_triangles(leaf_[i]);
+    near_start_[i + 1] = near_start_[i] + cols.size();
   }
-  close_start_.assign(n + 1, 0);
-  for (long i = 0; i < n; ++i) close_start_[i + 1] = close_start_[i] + close[i].size();
-  close_col_.resize(close_start_[n]);
-  close_val_.resize(close_start_[n]);
-  for (long i = 0; i < n; ++i)
-    for (size_t k = 0; k < close[i].size(); ++k) {
-      close_col_[close_start_[i] + k] = close[i][k].first;
-      close_val_[close_start_[i] + k] = close[i][k].second;
-    }
-}
-
-void CollocationOperator::apply(const std::vector<double>& q, std::vector<double>& phi) {
-  fmm_->set_charges(q);
-  const long n = static_cast<long>(src_.size());
-  phi.resize(n);
+  near_val_.resize(near_start_[n]);
 #pragma omp parallel for num_threads(threads_) schedule(dynamic, 64)
   for (long i = 0; i < n; ++i) {
-    double f = fmm_->potential_without_close(leaf_[i], src_.centroid[i]);
-    for (size_t k = close_start_[i]; k < close_start_[i + 1]; ++k) f += close_val_[k] * q[close_col_[k]];
-    phi[i] = f;
+    const Vec3 x = src_.centroid[i];
+    float* val = &near_val_[near_start_[i]];
+    for (uint32_t j : leaf_cols_[leaf_[i]]) *val++ = static_cast<float>(unit_potential(src_, j, x));
+  }
+  setup_seconds_ = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+}
+
+void CollocationOperator::apply(const std::vector<double>& q, std::vector<double>& phi, Accuracy accuracy) {
+  Fmm& f = (accuracy == Accuracy::cheap && cheap_) ? *cheap_ : *fmm_;
+  f.set_charges(q);
+  const long n = static_cast<long>(src_.size());
+  phi.resize(n);
+#pragma omp parallel for num_threads(threads_) schedule(dynamic, 256)
+  for (long i = 0; i < n; ++i) {
+    double s = f.far_potential(leaf_[i], src_.centroid[i]);
+    const float* val = &near_val_[near_start_[i]];
+    const auto& cols = leaf_cols_[leaf_[i]];
+    const size_t m = cols.size();
+    double s1 = 0, s2 = 0, s3 = 0;  // independent sums: not bound by the add latency
+    size_t k = 0;
+    for (; k + 4 <= m; k += 4) {
+      s += static_cast<double>(val[k]) * q[cols[k]];
+      s1 += static_cast<double>(val[k + 1]) * q[cols[k + 1]];
+      s2 += static_cast<double>(val[k + 2]) * q[cols[k + 2]];
+      s3 += static_cast<double>(val[k + 3]) * q[cols[k + 3]];
+    }
+    for (; k < m; ++k) s += static_cast<double>(val[k]) * q[cols[k]];
+    phi[i] = (s + s1) + (s2 + s3);
   }
 }
 

@@ -345,6 +345,12 @@ double Fmm::potential_without_close(int leaf, Vec3 x) const {
   return phi;
 }
 
+double Fmm::far_potential(int leaf, Vec3 x) const {
+  double phi = 0;
+  basis_.l2p(&L_[static_cast<size_t>(leaf) * ncoef_], x - tcells_[leaf].center, &phi, nullptr);
+  return phi;
+}
+
 std::vector<uint32_t> Fmm::near_source_triangles(int leaf) const {
   std::vector<uint32_t> out;
   for (int B : near_[leaf]) {
@@ -358,6 +364,22 @@ std::vector<std::vector<uint32_t>> Fmm::source_leaf_triangles() const {
   std::vector<std::vector<uint32_t>> out;
   for (const auto& c : scells_)
     if (c.children == 0) out.emplace_back(order_.begin() + c.first, order_.begin() + c.first + c.count);
+  return out;
+}
+
+std::vector<std::vector<uint32_t>> Fmm::source_blocks(int max_count) const {
+  std::vector<std::vector<uint32_t>> out;
+  if (scells_.empty()) return out;
+  std::vector<int> stack{0};
+  while (!stack.empty()) {
+    const SourceCell& c = scells_[stack.back()];
+    stack.pop_back();
+    if (c.count <= max_count || c.children == 0) {
+      out.emplace_back(order_.begin() + c.first, order_.begin() + c.first + c.count);
+      continue;
+    }
+    for (int k = 0; k < c.children; ++k) stack.push_back(c.child_first + k);
+  }
   return out;
 }
 

@@ -44,6 +44,17 @@ struct ChargeOptions {
   double max_seconds = 0;           // stop early after this long (0: no limit)
   // robin hood only: initial potentials by O(n^2) direct summation instead of the FMM.
   bool direct_initialization = false;
+  // Krylov only. The GMRES iterations use an FMM of this lower order (same
+  // tree, same exact near field); each outer defect-correction step applies
+  // the full-order operator once (charge_krylov.cpp). >= fmm_order: no split.
+  int krylov_inner_order = 4;
+  // Relative 2-norm residual each inner GMRES solve reaches.
+  double krylov_inner_tolerance = 1e-4;
+  // Source triangles per FMM leaf for the solve (the near field is a
+  // precomputed sparse matrix, so larger leaves trade memory for fewer M2L).
+  int krylov_leaf_size = 32;
+  // Triangles per block of the block-Jacobi preconditioner (source cells).
+  int krylov_block_size = 128;
   // How the true error is re-evaluated: direct summation up to this many
   // triangles, above it a high-order FMM (p = 14, theta = 0.3).
   size_t verify_direct_max = 20000;
@@ -63,6 +74,9 @@ struct ChargeResult {
   int iterations = 0;
   double seconds = 0;               // wall time of the whole solve (incl. verification)
   double solve_seconds = 0;         // without the final verification
+  // CPU time of the process (all threads) during the solve, without the
+  // verification: on a shared machine wall time is inflated, this is not.
+  double solve_cpu_seconds = 0;
   bool converged = false;
   // max_i |phi_i - mean(phi)| / mean(phi) over the collocation points (the
   // centroids), by a fresh evaluation: direct summation or a high-order FMM.
@@ -70,10 +84,17 @@ struct ChargeResult {
   std::string verified_by;          // "direct" or "fmm"
   double mean_potential = 0;
   // Convergence history: the solver's own error estimate after each iteration
-  // (GMRES: relative residual; robin hood: tracked (max-min)/mean, sampled).
+  // (Krylov: the inner GMRES relative residual estimate, and after each outer
+  // step the true max |1 - A q| of the full operator; robin hood: tracked
+  // (max-min)/mean, sampled).
   std::vector<double> history;
   std::vector<double> history_seconds;
   std::vector<int> history_iterations;
+  // Krylov: operator and preconditioner set-up (tree, near matrix, block LU),
+  // mat-vecs with the cheap and the full FMM, entries of the near matrix.
+  double setup_seconds = 0;
+  int cheap_matvecs = 0, full_matvecs = 0;
+  size_t near_entries = 0;
   size_t source_triangles = 0;
   size_t refined_triangles = 0;     // soup triangles that were split
   std::vector<std::string> warnings;

@@ -72,6 +72,11 @@ class Fmm {
   // closed form (the charge solver adds those from a precomputed sparse list).
   double potential_without_close(int leaf, Vec3 x) const;
 
+  // Far field only: the target leaf's local expansion at x. The caller adds
+  // every triangle of near_source_triangles(leaf) itself (the charge solver
+  // keeps them as a precomputed sparse matrix).
+  double far_potential(int leaf, Vec3 x) const;
+
   // Source triangles (input indices) a target leaf takes directly.
   std::vector<uint32_t> near_source_triangles(int leaf) const;
 
@@ -80,6 +85,10 @@ class Fmm {
   // Source leaves as ranges of source triangles (input indices), for
   // leaf-block preconditioners.
   std::vector<std::vector<uint32_t>> source_leaf_triangles() const;
+  // The largest source cells of at most max_count triangles (or leaves), as
+  // lists of source triangles: a partition of all triangles into spatially
+  // compact blocks for block preconditioners.
+  std::vector<std::vector<uint32_t>> source_blocks(int max_count) const;
 
  private:
   struct SourceCell {

@@ -67,6 +67,13 @@ class TaylorBasis {
   std::vector<double> factorial_;              // a! per index up to order p + 1
   std::vector<double> out_scale_;              // (-1)^|b| / b! per b
   std::vector<std::array<int, 3>> down_;       // per coefficient: index of a - e_i (-1 if none)
+  // The kernel recurrence per coefficient a, flattened: indices of a - e_i and
+  // a - 2e_i (index_.size(), a slot holding 0, where absent), (2|a|-1)/|a|, (|a|-1)/|a|.
+  struct KernelTerm {
+    int m1[3], m2[3];
+    double c1, c2;
+  };
+  std::vector<KernelTerm> kterm_;
 };
 
 }  // namespace soupuv::field

@@ -1,0 +1,37 @@
+// Restarted GMRES with right preconditioning for A x = b, matrix-free.
+//
+//   GmresResult r = gmres(apply_A, apply_Minv, b, GmresOptions{.rtol = 1e-4});
+//
+// Inputs: apply_A(v, out) computes out = A v; apply_Minv(v, out) computes
+// out = M^-1 v (right preconditioner: GMRES works on A M^-1 y = b, x = M^-1 y);
+// b. Output: x with ||b - A x||_2 <= rtol * ||b||_2 by GMRES's own (recursive)
+// residual estimate, the mat-vec count, and the estimate after every
+// iteration. The caller checks the true residual: with an approximate A (a
+// cheap FMM) the estimate is only as good as A.
+#pragma once
+
+#include <functional>
+#include <vector>
+
+namespace soupuv::field {
+
+using LinearMap = std::function<void(const std::vector<double>&, std::vector<double>&)>;
+
+struct GmresOptions {
+  double rtol = 1e-6;
+  int restart = 40;
+  int max_iterations = 300;
+  // Called after every iteration with the relative residual estimate; return
+  // false to stop (time limit, cancel).
+  std::function<bool(double)> on_iteration;
+};
+
+struct GmresResult {
+  std::vector<double> x;
+  int iterations = 0;              // mat-vecs with A
+  double estimate = 1;             // last relative residual estimate
+};
+
+GmresResult gmres(const LinearMap& A, const LinearMap& Minv, const std::vector<double>& b, const GmresOptions& o);
+
+}  // namespace soupuv::field

@@ -1,0 +1,108 @@
+// The Krylov solve's building blocks against their slow twins: GMRES against
+// a dense LU solve, the collocation operator (precomputed near matrix + FMM
+// far field, full and cheap order) against the dense matrix of eq. 5, and the
+// preconditioner's block partition.
+#include <gtest/gtest.h>
+
+#include <Eigen/Dense>
+#include <algorithm>
+#include <cmath>
+#include <random>
+
+#include "../../../core/src/field/collocation.h"
+#include "../../../core/src/field/gmres.h"
+#include "soupuv/field/sources.h"
+#include "soupuv/shapes.h"
+
+using namespace soupuv;
+using namespace soupuv::field;
+
+TEST(Gmres, MatchesDenseLuWithRestartsAndPreconditioner) {
+  const int n = 80;
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<double> u(-1, 1);
+  Eigen::MatrixXd A(n, n);
+  for (int i = 0; i < n; ++i)
+    for (int j = 0; j < n; ++j) A(i, j) = u(rng) + (i == j ? 4.0 + i * 0.1 : 0.0);
+  std::vector<double> b(n);
+  for (double& v : b) v = u(rng);
+  Eigen::VectorXd ref = A.partialPivLu().solve(Eigen::Map<Eigen::VectorXd>(b.data(), n));
+  LinearMap apply_A = [&](const std::vector<double>& v, std::vector<double>& out) {
+    Eigen::VectorXd r = A * Eigen::Map<const Eigen::VectorXd>(v.data(), n);
+    out.assign(r.data(), r.data() + n);
+  };
+  LinearMap identity = [](const std::vector<double>& v, std::vector<double>& out) { out = v; };
+  LinearMap jacobi = [&](const std::vector<double>& v, std::vector<double>& out) {
+    out.resize(n);
+    for (int i = 0; i < n; ++i) out[i] = v[i] / A(i, i);
+  };
+  for (const LinearMap* M : {&identity, &jacobi}) {
+    GmresOptions o;
+    o.rtol = 1e-10;
+    o.restart = 7;  // forces several restarts
+    o.max_iterations = 2000;
+    GmresResult r = gmres(apply_A, *M, b, o);
+    double err = 0;
+    for (int i = 0; i < n; ++i) err = std::max(err, std::fabs(r.x[i] - ref[i]));
+    EXPECT_LT(err, 1e-8) << "iterations " << r.iterations;
+    EXPECT_LE(r.estimate, 1e-10);
+  }
+  // A restart-free run stops at the tolerance it was given, not earlier.
+  GmresOptions loose;
+  loose.rtol = 1e-2;
+  GmresResult r = gmres(apply_A, identity, b, loose);
+  EXPECT_LE(r.estimate, 1e-2);
+  EXPECT_GT(r.estimate, 1e-12);
+}
+
+TEST(Collocation, FullAndCheapOperatorsMatchTheDenseMatrix) {
+  Soup soup = shapes::to_soup(shapes::torus_with(1.0, 0.5, 1800));
+  SourceGeometry src = make_sources(soup.positions, soup.triangles, 4);
+  const size_t n = src.size();
+  std::vector<double> q(n);
+  std::mt19937 rng(3);
+  std::uniform_real_distribution<double> u(0.5, 1.5);
+  for (double& v : q) v = u(rng) / n;
+  std::vector<double> ref(n, 0.0);
+  for (size_t i = 0; i < n; ++i)
+    for (size_t j = 0; j < n; ++j) ref[i] += unit_potential(src, j, src.centroid[i]) * q[j];
+  FmmOptions fo;
+  fo.order = 8;
+  fo.theta = 0.5;
+  fo.leaf_size = 16;  // small leaves so that most pairs go through the far field
+  CollocationOperator A(src, fo, 4);
+  EXPECT_LT(A.near_entries(), n * n / 2);
+  std::vector<double> full, cheap;
+  A.apply(q, full, CollocationOperator::Accuracy::full);
+  A.apply(q, cheap, CollocationOperator::Accuracy::cheap);
+  double err_full = 0, err_cheap = 0;
+  for (size_t i = 0; i < n; ++i) {
+    err_full = std::max(err_full, std::fabs(full[i] / ref[i] - 1));
+    err_cheap = std::max(err_cheap, std::fabs(cheap[i] / ref[i] - 1));
+  }
+  std::printf("collocation operator max rel error: p=8 %.2e, p=4 %.2e (near entries per row %.0f)\n", err_full,
+              err_cheap, double(A.near_entries()) / n);
+  EXPECT_LT(err_full, 1e-6);
+  EXPECT_LT(err_cheap, 1e-3);
+  EXPECT_GT(err_cheap, err_full);  // the cheap far field really is a different (coarser) one
+}
+
+TEST(Fmm, SourceBlocksPartitionTheTriangles) {
+  Soup soup = shapes::to_soup(shapes::torus_with(1.0, 0.5, 3200));
+  SourceGeometry src = make_sources(soup.positions, soup.triangles, 4);
+  FmmOptions fo;
+  fo.leaf_size = 16;
+  Fmm fmm(src, fo, src.centroid);
+  for (int max_count : {16, 100, 1000}) {
+    auto blocks = fmm.source_blocks(max_count);
+    std::vector<int> seen(src.size(), 0);
+    size_t largest = 0;
+    for (const auto& b : blocks) {
+      largest = std::max(largest, b.size());
+      for (uint32_t j : b) ++seen[j];
+    }
+    EXPECT_TRUE(std::all_of(seen.begin(), seen.end(), [](int c) { return c == 1; }));
+    EXPECT_LE(largest, static_cast<size_t>(max_count));
+    EXPECT_GT(largest, static_cast<size_t>(max_count) / 16);  // the largest cells that fit, not leaves
+  }
+}
