@@ -1,5 +1,5 @@
-// build_proxy: offset policy -> narrow band -> marching cubes -> drop inner
-// components -> remesh -> Taubin smoothing -> measured checks.
+// build_proxy: offset policy -> narrow band -> marching cubes -> edge collapse ->
+// drop inner components -> remesh -> Taubin smoothing -> lift to d = o -> measured checks.
 // See soupuv/proxy/proxy.h.
 #include "soupuv/proxy/proxy.h"
 
@@ -15,6 +15,7 @@
 #include "soupuv/errors.h"
 #include "soupuv/proxy/collapse_short_edges.h"
 #include "soupuv/proxy/components.h"
+#include "soupuv/proxy/lift_to_offset.h"
 #include "soupuv/proxy/marching_cubes.h"
 #include "soupuv/proxy/marching_tetrahedra.h"
 #include "soupuv/proxy/mesh_checks.h"
@@ -286,6 +287,8 @@ ProxyResult build_proxy(const Soup& soup, const ProxyOptions& options, Progress&
     t0 = Clock::now();
     progress.update("proxy: smoothing", 0);
     taubin_smooth(mesh, options.smoothing_iterations);
+    if (options.lift_iterations > 0)
+      lift_to_offset(mesh, soup_bvh, offset, 0.25 * target, options.lift_iterations);
     r.seconds_smooth = since(t0);
 
     t0 = Clock::now();

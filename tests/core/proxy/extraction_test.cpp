@@ -9,6 +9,7 @@
 
 #include "soupuv/proxy/collapse_short_edges.h"
 #include "soupuv/proxy/components.h"
+#include "soupuv/proxy/lift_to_offset.h"
 #include "soupuv/proxy/marching_cubes.h"
 #include "soupuv/proxy/marching_tetrahedra.h"
 #include "soupuv/proxy/mesh_checks.h"
@@ -141,6 +142,24 @@ TEST(ProxyExtraction, CollapseKeepsTopologyAndCoarsens) {
   EXPECT_EQ(check_topology(coarse).euler(), check_topology(raw).euler());
   EXPECT_EQ(find_components(coarse).count, find_components(raw).count);
   EXPECT_LT(coarse.faces.size(), raw.faces.size());
+}
+
+// A sphere of radius 0.6 around a soup sphere of radius 0.2 sits at d = 0.4;
+// lifting to o = 0.7 in steps of at most 0.12 must reach d = o (and no more)
+// in three rounds, and not before.
+TEST(ProxyExtraction, LiftMovesSunkenVerticesOutToTheOffset) {
+  Soup soup = shapes::to_soup(shapes::icosphere(0.2, 3));
+  TriangleBvh bvh(soup);
+  TriMesh proxy = shapes::icosphere(0.6, 3);
+  TriMesh once = proxy;
+  double ratio_once = lift_to_offset(once, bvh, 0.7, 0.12, 1);
+  EXPECT_NEAR(ratio_once, (0.4 + 0.12) / 0.7, 0.02);
+  double ratio = lift_to_offset(proxy, bvh, 0.7, 0.12, 3);
+  EXPECT_GT(ratio, 0.99);
+  double farthest = 0;
+  for (const Vec3& v : proxy.vertices) farthest = std::max(farthest, bvh.distance(v));
+  EXPECT_LT(farthest, 0.7 + 1e-9);  // lifted to the offset, never beyond
+  expect_closed_manifold(proxy);
 }
 
 }  // namespace

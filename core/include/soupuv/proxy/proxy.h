@@ -58,6 +58,10 @@ struct ProxyOptions {
 
   // Taubin lambda|mu smoothing (no shrinkage). 0 = off.
   int smoothing_iterations = 10;
+  // Rounds of lifting vertices that sank below d = o (by collapse and
+  // smoothing) back along their normals, a quarter edge at most per round.
+  // 0 = off.
+  int lift_iterations = 2;
 
   // Self-intersection test (CGAL PMP); costs about as much as the remeshing.
   bool check_self_intersections = true;
