@@ -5,9 +5,11 @@
 //   soups    the noisy soups in ../shared/data/soups, automatic offset.
 //   scaling  a ~100k-triangle noisy soup at resolution 128, 256, 512 (fixed
 //            offset): seconds and peak memory, and their log-log slopes.
-// Flags: --quick (small subset, about a minute), --only=table1|soups|scaling.
+// Flags: --quick (small subset, about a minute), --only=table1|soups|scaling,
+//        --resolutions=128,256 (scaling: these instead of the default list).
 #include <filesystem>
 #include <iostream>
+#include <sstream>
 #include <string>
 #include <vector>
 
@@ -109,10 +111,11 @@ void soups(bool quick) {
   }
 }
 
-void scaling(bool quick) {
+void scaling(bool quick, std::vector<int> resolutions) {
   Soup soup = shapes::to_soup(shapes::sphere_with(1.0, quick ? 10000 : 100000), 1e-3, 1);
   // The surface area is fixed, so surface cells grow with resolution^2.
-  std::vector<int> resolutions = quick ? std::vector<int>{48, 96} : std::vector<int>{128, 256, 512};
+  if (resolutions.empty())
+    resolutions = quick ? std::vector<int>{48, 96} : std::vector<int>{128, 256, 512};
   std::vector<double> res, secs, mem;
   for (int n : resolutions) {
     proxy::ProxyOptions o;
@@ -137,12 +140,18 @@ void scaling(bool quick) {
 
 int run_proxy(const Args& args) {
   std::string only;
-  for (const auto& a : args.rest)
+  std::vector<int> resolutions;
+  for (const auto& a : args.rest) {
     if (a.rfind("--only=", 0) == 0) only = a.substr(7);
+    if (a.rfind("--resolutions=", 0) == 0) {
+      std::stringstream list(a.substr(14));
+      for (std::string item; std::getline(list, item, ',');) resolutions.push_back(std::stoi(item));
+    }
+  }
   try {
     if (only.empty() || only == "table1") table1(args.quick);
     if (only.empty() || only == "soups") soups(args.quick);
-    if (only.empty() || only == "scaling") scaling(args.quick);
+    if (only.empty() || only == "scaling") scaling(args.quick, resolutions);
   } catch (const Error& e) {
     std::cerr << "proxy bench: " << e.what() << "\n";
     return 1;
