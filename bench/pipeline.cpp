@@ -1,4 +1,4 @@
-// soupuv-bench pipeline [--quick] [--only NAME]: the whole mapping job on the
+// soupuv-bench pipeline [--quick] [--only NAME] [--offset F]: the whole mapping job on the
 // shared noisy soups and on large synthetic soups, field method vs the box
 // baseline side by side, and a re-run with a new proxy offset that reuses the
 // cached charges and field lines (the issue's >= 5x target).
@@ -68,14 +68,19 @@ nlohmann::json row(const Input& in, const std::string& method, double seconds, c
     r["cache_hits"] = d["cache"]["hits"];
     r["mixed_side_after"] = d["orient"].value("mixed_side_triangles_after", 0);
     r["corrected_triangles"] = d["transfer"]["corrected_triangles"];
+    r["lines"] = d["trace"]["lines"];
+    r["causes"] = d["uv"]["causes"];
   }
   return r;
 }
 
 int run_pipeline(const bench::Args& args) {
   std::string only;
-  for (size_t i = 0; i + 1 < args.rest.size(); ++i)
+  double offset = 0;  // 0: the pipeline's default offset
+  for (size_t i = 0; i + 1 < args.rest.size(); ++i) {
     if (args.rest[i] == "--only") only = args.rest[i + 1];
+    if (args.rest[i] == "--offset") offset = std::stod(args.rest[i + 1]);
+  }
 
   // --quick (CI, about a minute): one small sphere with a fixed offset (the
   // automatic offset's ladder alone takes minutes on a loaded machine).
@@ -93,9 +98,9 @@ int run_pipeline(const bench::Args& args) {
     MapOptions o;
     o.cache = &store;
     o.original = in.has_original ? &in.original : nullptr;
-    if (args.quick) {
+    if (args.quick || offset > 0) {
       o.proxy.offset_mode = proxy::OffsetMode::relative;
-      o.proxy.offset = 0.03;
+      o.proxy.offset = offset > 0 ? offset : 0.03;
     }
 
     auto t0 = Clock::now();

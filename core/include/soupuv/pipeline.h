@@ -45,9 +45,16 @@ enum class MapMethod { field, box };
 // 70 deg, 27 charts -> 0.87.
 atlas::AtlasOptions map_atlas_defaults();
 
+// The proxy the field method asks for: the automatic offset, but its ladder
+// starts at 3 % of the diagonal. A tighter proxy is finer and bends more, so
+// the atlas cuts it into more charts, and the seams cost more continuity
+// than the tighter fit gains. Measured on spot: offset 0.015 -> 12,138 proxy
+// triangles, 44 charts, continuity 0.918; 0.03 -> 3,392, 25, 0.925.
+proxy::ProxyOptions map_proxy_defaults();
+
 struct MapOptions {
   MapMethod method = MapMethod::field;
-  proxy::ProxyOptions proxy;
+  proxy::ProxyOptions proxy = map_proxy_defaults();
   atlas::AtlasOptions atlas = map_atlas_defaults();
   field::ChargeOptions charge;
   // trace.stop_radius = 0 here means: stop once a line is surely past any
@@ -77,9 +84,12 @@ struct MapOptions {
   bool chart_fix_neighbours = true;
   // Welding for the neighbour graph (orientation, continuity when no original
   // is given): corners closer than weld_tolerance * bounding-box diagonal, and
-  // closer than weld_edge_fraction * their triangles' shortest edge.
+  // closer than weld_edge_fraction * their triangles' shortest edge (never two
+  // corners of one triangle). Measured on spot: fraction 0.3 left 510 of the
+  // 8,784 original neighbour pairs unwelded (221 components, 3,623 lines);
+  // 1.0 finds them (1 component, 2,938 lines, continuity 0.919 -> 0.925).
   double weld_tolerance = 2e-3;
-  double weld_edge_fraction = 0.3;
+  double weld_edge_fraction = 1.0;
 
   int threads = 0;             // total budget; 0 = OpenMP default
   cache::Store* cache = nullptr;  // shared, thread-safe; nullptr = no cache

@@ -16,7 +16,8 @@ nlohmann::json DiscontinuityBreakdown::to_json() const {
           {"flipped_other", flipped_other},
           {"one_chart_triangles", one_chart_triangles},
           {"stretch_l2_one_chart", stretch_l2_one_chart},
-          {"stretch_l2_other", stretch_l2_other}};
+          {"stretch_l2_other", stretch_l2_other},
+          {"stretch_l2_unflipped", stretch_l2_unflipped}};
 }
 
 DiscontinuityBreakdown discontinuity_breakdown(const Soup& soup, const CornerUvs& uvs,
@@ -54,7 +55,7 @@ DiscontinuityBreakdown discontinuity_breakdown(const Soup& soup, const CornerUvs
     if (std::isfinite(area[t])) oriented += area[t];
   }
   const double sign = oriented >= 0 ? 1 : -1;
-  std::vector<uint8_t> one_chart(uvs.size(), 1), other(uvs.size(), 0);
+  std::vector<uint8_t> one_chart(uvs.size(), 1), other(uvs.size(), 0), unflipped(uvs.size(), 1);
   double area3 = 0, area_uv = 0;
   for (size_t t = 0; t < uvs.size(); ++t) {
     area3 += triangle_area(soup, t);
@@ -65,12 +66,14 @@ DiscontinuityBreakdown discontinuity_breakdown(const Soup& soup, const CornerUvs
     other[t] = !one_chart[t];
     b.one_chart_triangles += one_chart[t];
     if (!(sign * area[t] < 0)) continue;
+    unflipped[t] = 0;
     ++b.flipped;
     (one_chart[t] ? b.flipped_one_chart : b.flipped_other)++;
   }
   const double scale = area3 > 0 ? std::sqrt(area_uv / area3) : 0;
   b.stretch_l2_one_chart = stretch_l2_subset(soup, uvs, one_chart, scale);
   b.stretch_l2_other = stretch_l2_subset(soup, uvs, other, scale);
+  b.stretch_l2_unflipped = stretch_l2_subset(soup, uvs, unflipped, scale);
   return b;
 }
 

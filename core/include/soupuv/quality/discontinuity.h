@@ -39,6 +39,7 @@ struct DiscontinuityBreakdown {
   // L2 stretch (uv_metrics' normalisation) of the triangles whose corners all
   // hit one chart, and of the others (chart correction or fallback placed them).
   double stretch_l2_one_chart = 0, stretch_l2_other = 0;
+  double stretch_l2_unflipped = 0;  // without the flipped triangles
   size_t one_chart_triangles = 0;
   nlohmann::json to_json() const;
 };
