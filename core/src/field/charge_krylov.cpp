@@ -1,6 +1,6 @@
 // Krylov charge solve: defect correction around GMRES (gmres.h).
 //
-//   x = 0, r = 1
+//   x = area / mean(A_cheap area), r = 1 - A_cheap x
 //   repeat: d = GMRES(A_cheap M^-1, r) to a loose tolerance;  x += d;
 //           r = 1 - A_full x   (one accurate mat-vec)
 //   until max |r| <= tolerance / 5
@@ -46,9 +46,23 @@ void solve_krylov(const SourceGeometry& src, const ChargeOptions& o, Progress& p
   const int max_it = o.max_iterations > 0 ? o.max_iterations : 300;
   // max |1 - A q| bounds the deviation of A q from its mean by twice that.
   const double target = o.tolerance / 5;
-  std::vector<double> x(n, 0.0), res(n, 1.0), ax;
+  // Initial guess: charge proportional to area (exact for a sphere), scaled
+  // so that the mean potential is 1; its residual by the cheap operator (the
+  // first outer step replaces it by the full one).
+  std::vector<double> x(n), res(n), ax;
+  for (size_t t = 0; t < n; ++t) x[t] = src.area[t];
+  A.apply(x, ax, cheap);
+  ++r.cheap_matvecs;
+  double mean = 0;
+  for (double v : ax) mean += v;
+  mean /= static_cast<double>(n);
+  if (!(mean > 0)) mean = 1;
+  for (size_t t = 0; t < n; ++t) {
+    x[t] /= mean;
+    res[t] = 1.0 - ax[t] / mean;
+  }
   const double bnorm = std::sqrt(static_cast<double>(n));
-  int total = 0;
+  int total = 1;
   bool out_of_time = false;
   for (int outer = 0; outer < 20 && total < max_it && !out_of_time; ++outer) {
     double rmax = 0, r2 = 0;
