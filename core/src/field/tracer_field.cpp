@@ -331,7 +331,10 @@ void TracerField::field(int leaf, const Vec3* x, int count, Vec3* E, double* nea
             continue;
           }
           near_triangle(j, tri_charge_[k], xi, e);
-          if (nearest && src.area[j] > 0)
+          // Every point of the triangle lies within radius of its centroid, so
+          // |x - centroid| - radius bounds the distance from below: most
+          // near triangles cannot beat the nearest so far.
+          if (nearest && src.area[j] > 0 && std::sqrt(norm2(xi - src.centroid[j])) - src.radius[j] < nearest[i])
             nearest[i] = std::min(nearest[i], point_triangle_distance(src.a[j], src.b[j], src.c[j], xi));
         }
       }
