@@ -59,8 +59,6 @@ std::string find_worker_binary(const std::string& configured) {
   return "";
 }
 
-bool HttpServer::set_listen_backlog(int backlog) { return ::listen(svr_sock_, backlog) == 0; }
-
 App::App(Config config) {
   ctx_.config = std::move(config);
   const Config& c = ctx_.config;
@@ -90,12 +88,12 @@ App::App(Config config) {
   http_.set_payload_max_length(size_t(c.max_upload_bytes));
   http_.set_read_timeout(30, 0);
   http_.set_write_timeout(30, 0);
+  // Keep-alive: up to 100 requests per connection, 5 s idle. Safe because
+  // every refusal that may leave a body unread closes its connection
+  // (HttpServer, close_connection_after in routes.cpp). A proxy in front must
+  // drop idle upstream connections sooner (deploy/nginx: keepalive_timeout 4s)..
   http_.set_keep_alive_timeout(5);
-  // One request per connection. A request refused on its headers leaves its
-  // body unread, and 0.11.4 ignores a handler's "Connection: close": on a
-  // kept-alive connection the body would be parsed as the next request
-  // (request smuggling, e.g. through a proxy). Loopback/proxy reconnects are cheap.
-  http_.set_keep_alive_max_count(1);
+  http_.set_keep_alive_max_count(100);
   // httplib's default also sets SO_REUSEPORT, which lets a second server
   // silently share the port with a live one; keep only SO_REUSEADDR.
   http_.set_socket_options([](socket_t sock) {

@@ -10,6 +10,7 @@
 #include "soupuv/hash.h"
 #include "soupuv/server/app.h"
 #include "soupuv/server/http_guards.h"
+#include "soupuv/server/http_server.h"
 #include "soupuv/server/log.h"
 #include "soupuv/server/problem.h"
 #include "soupuv/server/upload_check.h"
@@ -363,7 +364,7 @@ void register_routes(httplib::Server& http, ServerContext& ctx) {
     if (auto r = check_request_headers(req, ctx.config.max_upload_bytes)) {
       set_problem(res, r->status, r->slug, r->detail);
       // The body (if any) is unread: the connection cannot carry another request.
-      res.set_header("Connection", "close");
+      close_connection_after(res);
       return false;
     }
     if (ctx.tokens.enabled() && req.path.rfind("/v1/", 0) == 0 && req.path != "/v1/openapi.yaml" &&
@@ -371,12 +372,12 @@ void register_routes(httplib::Server& http, ServerContext& ctx) {
       if (!req.has_header("Authorization")) {
         res.set_header("WWW-Authenticate", "Bearer realm=\"soupuv\"");
         set_problem(res, 401, "unauthorized", "a bearer token is required");
-        res.set_header("Connection", "close");
+        close_connection_after(res);
         return false;
       }
       if (!ctx.tokens.accepts(TokenSet::bearer(req.get_header_value("Authorization")))) {
         set_problem(res, 403, "forbidden", "the bearer token is not accepted");
-        res.set_header("Connection", "close");
+        close_connection_after(res);
         return false;
       }
     }
@@ -398,6 +399,8 @@ void register_routes(httplib::Server& http, ServerContext& ctx) {
       res.set_header("Access-Control-Expose-Headers", "Location, Retry-After");
     }
     if (req.method == "OPTIONS") {  // CORS preflight: answered here, nothing else
+      // A preflight has no body; if one is announced it stays unread.
+      if (req.has_header("Content-Length") || req.has_header("Transfer-Encoding")) close_connection_after(res);
       if (cors_allowed(ctx, origin)) {
         res.set_header("Access-Control-Allow-Methods", "GET, POST, DELETE, OPTIONS");
         res.set_header("Access-Control-Allow-Headers", "Authorization, Content-Type, Idempotency-Key");
@@ -419,11 +422,13 @@ void register_routes(httplib::Server& http, ServerContext& ctx) {
     } catch (...) {
     }
     log::error("request failed", {{"method", req.method}, {"path", req.path.substr(0, 200)}, {"error", what}});
+    close_connection_after(res);
     set_problem(res, 500, "internal", "internal server error");
   });
   // Errors httplib produces itself (unknown route, 400 on a bad request line,
   // 413 from its payload cap) get a problem body too.
   http.set_error_handler(httplib::Server::HandlerWithResponse([](const httplib::Request&, httplib::Response& res) {
+    close_connection_after(res);  // e.g. a 404 on a POST whose body nobody read
     if (!res.body.empty() || res.is_chunked_content_provider_) return httplib::Server::HandlerResponse::Unhandled;
     std::string slug = res.status == 404 ? "not-found" : res.status == 413 ? "too-large" : "bad-request";
     set_problem(res, res.status, slug, status_title(res.status));
@@ -441,6 +446,9 @@ void register_routes(httplib::Server& http, ServerContext& ctx) {
   // ---- API v1 -------------------------------------------------------------
   http.Post("/v1/jobs", [&ctx](const httplib::Request& req, httplib::Response& res, const httplib::ContentReader& reader) {
     submit_job(ctx, req, res, reader);
+    // Only an accepted upload was read to its end; any refusal may leave body
+    // bytes on the connection, which must never be parsed as a request.
+    if (res.status != 202) close_connection_after(res);
   });
   http.Get("/v1/jobs", [&ctx](const httplib::Request& req, httplib::Response& res) {
     std::optional<JobState> state;

@@ -114,3 +114,55 @@ TEST_F(Hardening, RefusedBodyIsNeverParsedAsASecondRequest) {
   EXPECT_EQ(status_of(te), 411) << te;
   EXPECT_EQ(te.find("\"jobs\""), std::string::npos) << te;
 }
+
+namespace {
+size_t count_responses(const std::string& r) {
+  size_t n = 0;
+  for (size_t p = r.find("HTTP/1.1 "); p != std::string::npos; p = r.find("HTTP/1.1 ", p + 1)) ++n;
+  return n;
+}
+}  // namespace
+
+TEST_F(Hardening, KeepAliveCarriesSeveralGoodRequests) {
+  // Three pipelined requests on one connection; the last asks to close.
+  const std::string get = "GET /healthz HTTP/1.1\r\nHost: 127.0.0.1\r\n\r\n";
+  auto t0 = std::chrono::steady_clock::now();
+  std::string r = raw_exchange(server_->port(),
+                               get + "GET /v1/jobs HTTP/1.1\r\nHost: 127.0.0.1\r\n\r\n" +
+                                   "GET /healthz HTTP/1.1\r\nHost: 127.0.0.1\r\nConnection: close\r\n\r\n",
+                               5000);
+  double secs = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  EXPECT_EQ(count_responses(r), 3u) << r;
+  EXPECT_NE(r.find("\"jobs\""), std::string::npos) << r;
+  EXPECT_LT(secs, 4.0) << "the server did not close after Connection: close";
+}
+
+TEST_F(Hardening, EveryRefusalWithAnUnreadBodyClosesTheConnection) {
+  // Each request announces a body that is itself a request. Whatever refuses
+  // it (guard, route table, submit handler), the answer is one response and
+  // the connection is closed: the body is never parsed as a second request.
+  const std::string smuggled = "GET /v1/jobs HTTP/1.1\r\nHost: x\r\n\r\n";
+  const std::string len = "Content-Length: " + std::to_string(smuggled.size()) + "\r\n";
+  struct Case {
+    const char* what;
+    std::string head;
+    int status;
+  };
+  const std::vector<Case> cases = {
+      {"unknown type (guard)", "POST /v1/jobs HTTP/1.1\r\nHost: x\r\nContent-Type: text/plain\r\n" + len, 415},
+      {"body on a GET route (guard)", "POST /healthz HTTP/1.1\r\nHost: x\r\nContent-Type: model/gltf-binary\r\n" + len, 405},
+      {"bad parameter (submit handler, before the body)",
+       "POST /v1/jobs?method=magic HTTP/1.1\r\nHost: x\r\nContent-Type: model/gltf-binary\r\n" + len, 400},
+      {"bad idempotency key (submit handler)",
+       "POST /v1/jobs HTTP/1.1\r\nHost: x\r\nContent-Type: model/gltf-binary\r\nIdempotency-Key: a b\r\n" + len, 400},
+  };
+  for (const auto& c : cases) {
+    auto t0 = std::chrono::steady_clock::now();
+    std::string r = raw_exchange(server_->port(), c.head + "\r\n" + smuggled, 4000);
+    double secs = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    EXPECT_EQ(status_of(r), c.status) << c.what << ": " << r;
+    EXPECT_EQ(count_responses(r), 1u) << c.what << ": " << r;
+    EXPECT_EQ(r.find("\"jobs\""), std::string::npos) << c.what << ": the body was parsed as a request";
+    EXPECT_LT(secs, 3.0) << c.what << ": the connection was kept open";
+  }
+}

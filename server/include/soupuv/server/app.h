@@ -15,6 +15,7 @@
 #include "soupuv/server/auth.h"
 #include "soupuv/server/config.h"
 #include "soupuv/server/files.h"
+#include "soupuv/server/http_server.h"
 #include "soupuv/server/job_store.h"
 #include "soupuv/server/metrics.h"
 #include "soupuv/server/params.h"
@@ -41,16 +42,6 @@ struct ServerContext {
   std::string openapi_yaml;
   std::atomic<int> validations_running{0};
   std::atomic<int> uploads_in_flight{0};
-};
-
-// httplib 0.11.4 listens with a backlog of 5, compiled into Debian's library:
-// a burst of new connections (one request per connection, see app.cpp)
-// overflows it, the kernel drops SYNs and clients retry only after 1 s — the
-// one-second tail measured on status polls. Linux lets a bound, listening
-// socket be given a new backlog by calling listen() again.
-class HttpServer : public httplib::Server {
- public:
-  bool set_listen_backlog(int backlog);
 };
 
 class App {
