@@ -17,6 +17,8 @@
 //
 // Tuning flags: --order P --theta T --leaf K (tracer FMM), --max-triangles N,
 // --no-study, --study-only, --study-triangles N.
+#include <sys/resource.h>
+
 #include <algorithm>
 #include <cstdio>
 #include <limits>
@@ -57,6 +59,14 @@ std::vector<TraceSeed> vertex_seeds(const TriMesh& mesh) {
   for (size_t v = 0; v < seeds.size(); ++v)
     if (seen[v]) out.push_back(seeds[v]);
   return out;
+}
+
+// CPU seconds (user + sys) of this process so far: on a shared machine a
+// steadier measure than wall time for slopes and ratios.
+double cpu_seconds() {
+  rusage u{};
+  getrusage(RUSAGE_SELF, &u);
+  return u.ru_utime.tv_sec + u.ru_stime.tv_sec + 1e-6 * (u.ru_utime.tv_usec + u.ru_stime.tv_usec);
 }
 
 struct SampledError {
@@ -166,8 +176,8 @@ TraceOptions table5_options(const Flags& f) {
 
 void run_table5(const Flags& f, const bench::Args& args) {
   std::vector<int> sizes = {800, 1800, 3200, 6400, 12800, 25600, 51200, 105800, 204800};
-  std::vector<double> fx, fy, dx, dy;
-  double ratio_at_max_direct = NAN, fmm_at_max_direct = NAN;
+  std::vector<double> fx, fy, fc, dx, dy, dc;
+  double ratio_at_max_direct = NAN, fmm_at_max_direct = NAN, cpu_ratio_at_max_direct = NAN;
   for (int n : sizes) {
     if (static_cast<size_t>(n) > f.max_tris) break;
     TriMesh mesh = shapes::torus_with(1.0, 0.5, n);
@@ -180,12 +190,15 @@ void run_table5(const Flags& f, const bench::Args& args) {
     TraceOptions o = table5_options(f);
     o.keep_points = n <= 51200;
     TraceStats st;
+    const double cpu0 = cpu_seconds();
     FieldLines lines = trace_field_lines(c, seeds, o, Progress::none(), &st);
+    const double cpu_fmm = cpu_seconds() - cpu0;
     SampledError err;
     if (o.keep_points) err = sampled_field_error(c, lines, o);
     bench::emit({{"suite", "trace"}, {"shape", "torus"}, {"triangles", n}, {"method", "fmm"},
                  {"integrator", "midpoint"}, {"steps", 50}, {"lines", lines.size()},
                  {"seeds", f.corners ? "corners" : "unique mesh vertices"}, {"seconds", st.seconds},
+                 {"cpu_seconds", cpu_fmm},
                  {"build_seconds", st.build_seconds}, {"evaluations", st.evaluations},
                  {"threads", bench::threads()},
                  {"field_rel_error", o.keep_points ? err.max : NAN},
@@ -202,6 +215,7 @@ void run_table5(const Flags& f, const bench::Args& args) {
                  lines.size(), st.seconds, st.build_seconds, err.max, err.p99, err.median, err.max_far, 100 * err.near_fraction);
     fx.push_back(n);
     fy.push_back(st.seconds);
+    fc.push_back(cpu_fmm);
     if (static_cast<size_t>(n) > f.direct_max) continue;
     // Direct summation costs n per evaluation: measure on at most ~1e9
     // point-triangle pairs' worth of lines and scale per line.
@@ -213,24 +227,31 @@ void run_table5(const Flags& f, const bench::Args& args) {
     TraceOptions d = o;
     d.direct = true;
     TraceStats sd;
+    const double dcpu0 = cpu_seconds();
     FieldLines dl = trace_field_lines(c, sub, d, Progress::none(), &sd);
-    const double scaled = sd.seconds * double(seeds.size()) / sub.size();
+    const double scale = double(seeds.size()) / sub.size();
+    const double scaled = sd.seconds * scale, scaled_cpu = (cpu_seconds() - dcpu0) * scale;
     FieldLines fl = trace_field_lines(c, sub, o);  // the FMM's lines for the same seeds
     bench::emit({{"suite", "trace"}, {"shape", "torus"}, {"triangles", n}, {"method", "direct"},
                  {"integrator", "midpoint"}, {"steps", 50}, {"lines", seeds.size()},
                  {"direct_lines_measured", sub.size()}, {"seconds", scaled}, {"seconds_measured", sd.seconds},
+                 {"cpu_seconds", scaled_cpu},
                  {"threads", bench::threads()}, {"field_rel_error", 0.0},
                  {"end_point_shift_vs_fmm", end_shift(fl, dl)}});
     std::fprintf(stderr, "trace direct n=%d: %.2fs for %zu lines, %.2fs scaled to %zu\n", n, sd.seconds,
                  sub.size(), scaled, seeds.size());
     dx.push_back(n);
     dy.push_back(scaled);
+    dc.push_back(scaled_cpu);
     ratio_at_max_direct = scaled / st.seconds;
+    cpu_ratio_at_max_direct = scaled_cpu / cpu_fmm;
     fmm_at_max_direct = st.seconds;
   }
   bench::emit({{"suite", "trace"}, {"kind", "summary"}, {"threads", bench::threads()},
                {"seeds", f.corners ? "corners" : "unique mesh vertices"},
                {"slope", {{"fmm", bench::loglog_slope(fx, fy)}, {"direct", bench::loglog_slope(dx, dy)}}},
+               {"slope_cpu", {{"fmm", bench::loglog_slope(fx, fc)}, {"direct", bench::loglog_slope(dx, dc)}}},
+               {"direct_over_fmm_cpu_at_largest_direct", cpu_ratio_at_max_direct},
                {"slope_fmm_from", fx.empty() ? 0.0 : fx.front()}, {"slope_fmm_to", fx.empty() ? 0.0 : fx.back()},
                {"direct_over_fmm_at_largest_direct", ratio_at_max_direct},
                {"fmm_seconds_at_largest_direct", fmm_at_max_direct},
