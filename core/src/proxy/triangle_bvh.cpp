@@ -45,13 +45,13 @@ double point_triangle_distance2(Vec3 p, Vec3 a, Vec3 b, Vec3 c) {
   return norm2(p - (a + v * ab + w * ac));
 }
 
+// The hottest function of the proxy (a third of the narrow band's time):
+// written per axis so it compiles to branch-free min/max.
 double box_distance2(const Box3& box, Vec3 p) {
-  double d2 = 0;
-  for (int k = 0; k < 3; ++k) {
-    double e = std::max({box.lo[k] - p[k], 0.0, p[k] - box.hi[k]});
-    d2 += e * e;
-  }
-  return d2;
+  double ex = std::max(std::max(box.lo.x - p.x, p.x - box.hi.x), 0.0);
+  double ey = std::max(std::max(box.lo.y - p.y, p.y - box.hi.y), 0.0);
+  double ez = std::max(std::max(box.lo.z - p.z, p.z - box.hi.z), 0.0);
+  return ex * ex + ey * ey + ez * ez;
 }
 
 // Slab test; true when the ray p + t*dir (t >= 0) meets the box.
