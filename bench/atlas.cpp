@@ -52,12 +52,18 @@ int run_atlas(const bench::Args& args) {
                          return proxy::build_proxy(asset.soup, {}).proxy.mesh;
                        }});
   }
-  // --only=TEXT keeps the meshes whose name contains TEXT.
-  for (const std::string& a : args.rest)
+  // --only=TEXT keeps the meshes whose name contains TEXT; --normal-deviation=DEG
+  // sets the segmentation budget (AtlasOptions::max_normal_deviation_deg),
+  // --padding=PX the padding in texels.
+  atlas::AtlasOptions options;
+  for (const std::string& a : args.rest) {
+    if (a.rfind("--normal-deviation=", 0) == 0) options.max_normal_deviation_deg = std::stod(a.substr(19));
+    if (a.rfind("--padding=", 0) == 0) options.padding_px = std::stod(a.substr(10));
     if (a.rfind("--only=", 0) == 0) {
       std::string text = a.substr(7);
       std::erase_if(cases, [&](const Case& c) { return c.name.find(text) == std::string::npos; });
     }
+  }
   double worst_l2 = 0, worst_util = 1, worst_seconds = 0;
   int total_flipped = 0;
   double worst_overlap = 0;
@@ -70,7 +76,7 @@ int run_atlas(const bench::Args& args) {
       continue;
     }
     std::cerr << "atlas: " << c.name << " (" << mesh.faces.size() << " faces)\n";
-    atlas::AtlasResult r = atlas::build_atlas(mesh, {}, Progress::none());
+    atlas::AtlasResult r = atlas::build_atlas(mesh, options, Progress::none());
     nlohmann::json row = {{"suite", "atlas"},
                           {"mesh", c.name},
                           {"triangles", mesh.faces.size()},

@@ -42,6 +42,8 @@ nlohmann::json AtlasResult::diagnostics() const {
           {"splits", s.splits},
           {"packing_splits", s.packing_splits},
           {"seam_edges", s.seam_edges},
+          {"seam_length", s.seam_length},
+          {"seam_length_relative", s.seam_length_relative},
           {"texture_size", atlas.texture_size},
           {"padding_px", atlas.padding_px},
           {"uv_per_length", atlas.uv_per_length},
@@ -204,6 +206,17 @@ AtlasResult build_atlas(const TriMesh& mesh, const AtlasOptions& options, Progre
   }
 
   progress.update("atlas.measure", 0);
+  // Seams: the pipeline's continuity suffers wherever a field line crosses
+  // one, so their length is reported next to the chart count.
+  double surface = 0;
+  for (double a : topology.face_area) surface += a;
+  for (int f = 0; f < nf; ++f)
+    for (int k = 0; k < 3; ++k) {
+      int g = topology.face_neighbor[f][k];
+      if (f < g && atlas.face_chart[f] != atlas.face_chart[g])
+        stats.seam_length += topology.edge_length[topology.face_edge[f][k]];
+    }
+  stats.seam_length_relative = surface > 0 ? stats.seam_length / std::sqrt(surface) : 0;
   AtlasMetrics m = measure_atlas(mesh, atlas);
   stats.charts = atlas.chart_count;
   stats.stretch_l2 = m.stretch_l2;

@@ -42,6 +42,31 @@ Vec2 align_to_min_rectangle(std::vector<Vec2>& uv) {
   return hi - lo;
 }
 
+// A chart turned by one of the base angles and moved to the positive quadrant,
+// with its bounding box size: the quarter turns of each pose are tried.
+struct Pose {
+  std::vector<Vec2> uv;
+  Vec2 size;
+};
+
+// The chart turned by `angle` (radians, counter-clockwise: no mirror) with its
+// bounding box's corner moved to the origin.
+Pose make_pose(const std::vector<Vec2>& uv, double angle) {
+  const double c = std::cos(angle), s = std::sin(angle);
+  Pose pose;
+  pose.uv.reserve(uv.size());
+  Vec2 lo{INFINITY, INFINITY}, hi{-INFINITY, -INFINITY};
+  for (Vec2 p : uv) {
+    Vec2 q{c * p.x - s * p.y, s * p.x + c * p.y};
+    lo = {std::min(lo.x, q.x), std::min(lo.y, q.y)};
+    hi = {std::max(hi.x, q.x), std::max(hi.y, q.y)};
+    pose.uv.push_back(q);
+  }
+  for (Vec2& q : pose.uv) q = q - lo;
+  pose.size = hi - lo;
+  return pose;
+}
+
 // Quarter turn r (0..3) of a point in a w x h box, staying in the positive quadrant.
 Vec2 turn(Vec2 p, int r, Vec2 size) {
   switch (r) {
@@ -108,8 +133,9 @@ Profile profile(const std::vector<Vec2>& uv, const std::vector<int>& outline, in
 }
 
 struct Placement {
-  int rotation = 0, column = 0, row = 0;
+  int pose = 0, rotation = 0, column = 0, row = 0;
 };
+
 
 // Occupancy of a strip of cells, kept per column as signed run lengths:
 // run > 0 means that many free cells from here upward, run < 0 that many
@@ -202,44 +228,62 @@ struct Grid {
   double column_width, row_height;  // in texels
 };
 
+// One greedy variant: the order charts are placed in, how many of the
+// chart's poses are tried (each in four quarter turns), and what "lowest"
+// means: the position minimising bottom row + height_weight * chart height (1:
+// lowest top, skyline packing; below 1 leans towards bottom-left fill).
+struct Heuristic {
+  const std::vector<int>* order;
+  int poses;
+  double height_weight;
+};
+
 // One packing at `scale` texels per UV unit into a strip one square wide and
 // three tall; returns the rows used (more than grid.rows overflows the
 // square), or INT_MAX if a chart is wider than the strip.
-int pack_at(const std::vector<PackChart>& charts, const std::vector<Vec2>& sizes,
-            const std::vector<int>& order, double scale, double padding, const Grid& grid,
+int pack_at(const std::vector<PackChart>& charts, const std::vector<std::vector<Pose>>& poses,
+            const Heuristic& heuristic, double scale, double padding, const Grid& grid,
             std::vector<Placement>& placements) {
   const double half = 0.5 * padding;
   Occupancy occ(grid.columns, 3 * grid.rows);
   placements.assign(charts.size(), {});
   int used = 0;
-  for (int ci : order) {
-    // Each quarter turn keeps its best position; the lowest top wins.
-    int best_top[4];
-    Placement best[4];
-    CellShape shape[4];
-    for (int r = 0; r < 4; ++r) {
-      shape[r] = cell_shape(profile(*charts[ci].uv, *charts[ci].outline, r, sizes[ci], scale,
-                                    half, grid.column_width),
-                            grid.row_height);
-      best_top[r] = INT_MAX;
-      const int w = static_cast<int>(shape[r].lo.size());
-      int hint = 0;
-      for (int x = 0; x + w <= grid.columns; ++x) {
-        int limit = best_top[r] == INT_MAX ? occ.height() : best_top[r] - 1;
-        int y = lowest_fit(occ, shape[r], x, limit, hint);
-        if (y < 0 || y + shape[r].height >= best_top[r]) continue;
-        best_top[r] = y + shape[r].height;
-        best[r] = {r, x, y};
+  for (int ci : *heuristic.order) {
+    // Every pose in four quarter turns keeps its lowest-top position; the
+    // lowest of those wins.
+    int best_top = INT_MAX;
+    double best_score = INFINITY;
+    Placement best;
+    CellShape best_shape;
+    for (int v = 0; v < heuristic.poses; ++v)
+      for (int r = 0; r < 4; ++r) {
+        const Pose& pose = poses[ci][v];
+        CellShape shape = cell_shape(
+            profile(pose.uv, *charts[ci].outline, r, pose.size, scale, half, grid.column_width),
+            grid.row_height);
+        const int w = static_cast<int>(shape.lo.size());
+        int hint = 0;
+        bool better = false;
+        for (int x = 0; x + w <= grid.columns; ++x) {
+          int limit = std::isinf(best_score) ? occ.height() : static_cast<int>(best_score - heuristic.height_weight * shape.height) + shape.height;
+          int y = lowest_fit(occ, shape, x, limit, hint);
+          if (y < 0) continue;
+          double score = y + heuristic.height_weight * shape.height;
+          if (score >= best_score) continue;
+          best_score = score;
+          best_top = y + shape.height;
+          best = {v, r, x, y};
+          better = true;
+        }
+        if (better) best_shape = std::move(shape);
       }
-    }
-    int r = static_cast<int>(std::min_element(best_top, best_top + 4) - best_top);
-    if (best_top[r] == INT_MAX) return INT_MAX;
-    for (size_t c = 0; c < shape[r].lo.size(); ++c)
-      if (shape[r].lo[c] <= shape[r].hi[c])
-        occ.fill(best[r].column + static_cast<int>(c), best[r].row + shape[r].lo[c],
-                 best[r].row + shape[r].hi[c]);
-    placements[ci] = best[r];
-    used = std::max(used, best_top[r]);
+    if (best_top == INT_MAX) return INT_MAX;
+    for (size_t c = 0; c < best_shape.lo.size(); ++c)
+      if (best_shape.lo[c] <= best_shape.hi[c])
+        occ.fill(best.column + static_cast<int>(c), best.row + best_shape.lo[c],
+                 best.row + best_shape.hi[c]);
+    placements[ci] = best;
+    used = std::max(used, best_top);
   }
   return used;
 }
@@ -273,9 +317,14 @@ PackResult pack_charts(std::vector<PackChart>& charts, int texture_size, double 
   PackResult result;
   const int n = static_cast<int>(charts.size());
   std::vector<Vec2> sizes(n);
+  std::vector<std::vector<Pose>> poses(n);
+  // Poses: the minimal-rectangle alignment, then turned by 30 and 60 degrees.
+  const int pose_count = 3;
   double area = 0;
   for (int i = 0; i < n; ++i) {
     sizes[i] = align_to_min_rectangle(*charts[i].uv);
+    for (int v = 0; v < pose_count; ++v)
+      poses[i].push_back(make_pose(*charts[i].uv, v * 0.5 * M_PI / pose_count));
     for (const auto& t : *charts[i].triangles) {
       const auto& uv = *charts[i].uv;
       area += 0.5 * std::fabs(cross(uv[t[1]] - uv[t[0]], uv[t[2]] - uv[t[0]]));
@@ -293,11 +342,11 @@ PackResult pack_charts(std::vector<PackChart>& charts, int texture_size, double 
   std::vector<Placement> placements, best_placements;
   const double full = texture_size / std::sqrt(std::max(area, 1e-300));  // 100% utilisation
   double lo = 0;
-  auto search = [&](const std::vector<int>& order, double start, double lo_known) {
+  auto search = [&](const Heuristic& heuristic, double start, double lo_known) {
     double hi = full, s = start, found = lo_known;
     for (int it = 0; it < 40 && (found == 0 || hi / found > 1.005); ++it) {
       ++result.attempts;
-      int used = pack_at(charts, sizes, order, s, padding_px, grid, placements);
+      int used = pack_at(charts, poses, heuristic, s, padding_px, grid, placements);
       if (used <= grid.rows) {
         found = s;
         lo = std::max(lo, s);
@@ -315,8 +364,7 @@ PackResult pack_charts(std::vector<PackChart>& charts, int texture_size, double 
       s = guess;
     }
   };
-  // Two orders, largest area first and longest side first; the second keeps
-  // its packing only where it fits at a larger scale.
+  // Two orders: largest area first and longest side first.
   std::vector<int> by_area(n);
   std::iota(by_area.begin(), by_area.end(), 0);
   std::vector<int> by_side = by_area;
@@ -326,8 +374,19 @@ PackResult pack_charts(std::vector<PackChart>& charts, int texture_size, double 
   std::stable_sort(by_side.begin(), by_side.end(), [&](int a, int b) {
     return std::max(sizes[a].x, sizes[a].y) > std::max(sizes[b].x, sizes[b].y);
   });
-  search(by_area, full * std::sqrt(0.8), 0);
-  if (lo > 0) search(by_side, lo * 1.01, lo);
+  // A portfolio of greedy variants: each is cheap, none wins everywhere
+  // (measured spread about 1% of utilisation either way per mesh), and every
+  // variant after the first costs one or two packings since it only has to beat
+  // the scale found so far.
+  std::vector<Heuristic> variants = {
+      {&by_area, 1, 1.0}, {&by_side, 1, 1.0}, {&by_area, 1, 0.5}, {&by_side, 1, 0.5}, {&by_area, 1, 0.75}};
+  // Turned poses cost three times as much per packing; with few charts they
+  // are cheap and were measured to pay (sphere 5k: 0.690 -> 0.704).
+  if (n <= 64) variants.insert(variants.end(), {{&by_area, 3, 1.0}, {&by_area, 3, 0.5}});
+  for (size_t v = 0; v < variants.size(); ++v) {
+    if (v == 0) search(variants[v], full * std::sqrt(0.8), 0);
+    else if (lo > 0) search(variants[v], lo * 1.01, lo);
+  }
   if (lo == 0)
     throw Error(ErrorCode::limit_exceeded,
                 "atlas: " + std::to_string(n) + " charts do not fit a " +
@@ -338,8 +397,10 @@ PackResult pack_charts(std::vector<PackChart>& charts, int texture_size, double 
   double uv_area = 0;
   for (int i = 0; i < n; ++i) {
     const Placement& p = best_placements[i];
-    for (Vec2& q : *charts[i].uv) {
-      Vec2 t = turn(q, p.rotation, sizes[i]);
+    const Pose& pose = poses[i][p.pose];
+    for (size_t k = 0; k < pose.uv.size(); ++k) {
+      Vec2& q = (*charts[i].uv)[k];
+      Vec2 t = turn(pose.uv[k], p.rotation, pose.size);
       q = {(p.column * grid.column_width + t.x * lo + half) / texture_size,
            (p.row * grid.row_height + t.y * lo + half) / texture_size};
     }

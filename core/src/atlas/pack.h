@@ -8,14 +8,18 @@
 //          texels between any two charts.
 //
 // Method: each chart is turned to its minimal-area bounding rectangle
-// (the best hull edge direction), then charts are placed largest first on a
-// grid of columns about 4 texels wide and rows one texel tall: each chart, in four quarter turns, becomes
-// one run of rows per column (dilated by half the padding), and goes where
-// its top ends lowest among all columns and turns. Columns keep signed
-// free/occupied run lengths, so a chart can also drop into a hole between
-// earlier charts, and the search for the lowest fit jumps over whole
-// occupied runs. The common scale comes from a few packings into a tall strip,
-// each rescaled by sqrt(square height / height used).
+// (the best hull edge direction), then charts are placed one by one on a
+// grid of columns about 4 texels wide and rows one texel tall: each chart, in
+// four quarter turns (and, with few charts, also turned by 30 and 60
+// degrees), becomes one run of rows per column (dilated by half the padding),
+// and goes where bottom + w * height is lowest among all columns and turns
+// (w = 1: lowest top). Columns keep signed free/occupied run lengths, so a
+// chart can also drop into a hole between earlier charts, and the search for
+// the lowest fit jumps over whole occupied runs. The common scale comes from
+// a few packings into a tall strip, each rescaled by sqrt(square height /
+// height used); then a portfolio of greedy variants (two orders, three values
+// of w, the turned poses) each tries to fit at a larger scale, and the
+// largest scale that fits wins.
 #pragma once
 
 #include <array>

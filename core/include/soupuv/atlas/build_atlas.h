@@ -73,6 +73,8 @@ struct AtlasDiagnostics {
   int splits = 0;            // charts split for topology, flips, overlap or stretch
   int packing_splits = 0;    // flattened charts halved to pack tighter
   int seam_edges = 0;        // mesh edges forced to be seams by the hints
+  double seam_length = 0;    // total 3D length of mesh edges between two charts
+  double seam_length_relative = 0;  // seam_length / sqrt(surface area): scale-free
   double seconds = 0;         // wall clock
   double cpu_seconds = 0;     // process CPU time (all threads) during the build
   int pack_attempts = 0;      // packings tried by the scale searches
