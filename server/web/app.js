@@ -66,6 +66,8 @@ async function loadParams() {
     }
     input.name = p.name;
     input.disabled = !p.supported;
+    if (p.name === 'debug_outputs' && p.supported)
+      label.title = 'also the proxy, the field lines and the UV layout (the field-line file grows with the triangle count)';
     label.append(input);
     box.append(label);
   }
