@@ -3,9 +3,12 @@
 // Input:  a Soup (any triangles, shared or not, open or closed).
 // Output: ProxyResult.proxy — the level set d(x) = o of the unsigned distance to
 //         the soup, extracted from a sparse narrow-band grid by marching
-//         tetrahedra, inner components (cavities) dropped, remeshed and
-//         smoothed. Always closed, 2-manifold, outward-oriented; every check is
-//         measured and reported in ProxyResult (never assumed).
+//         cubes (asymptotic decider), coarsened by our manifold-keeping edge
+//         collapse to about the target edge length, inner components
+//         (cavities) dropped, evened out by CGAL isotropic remeshing, Taubin
+//         smoothed and lifted back to d = o where it sank. Always closed,
+//         2-manifold, outward-oriented; every check is measured and reported
+//         in ProxyResult (never assumed).
 #pragma once
 
 #include <string>
