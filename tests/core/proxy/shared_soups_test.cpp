@@ -23,6 +23,11 @@ TEST_P(SharedSoup, AutomaticProxyIsOneEnclosingShell) {
   o.max_resolution = 96;
   ProxyResult r = build_proxy(soup, o);
   expect_valid_proxy(r, soup, 1);
+  // The finished proxy itself passed (no fallback to the unremeshed level
+  // set), lifted close to d = o, and no bigger than atlas and transfer need.
+  for (const auto& w : r.warnings) EXPECT_EQ(w.find("failed a check"), std::string::npos) << w;
+  EXPECT_GE(r.min_distance_ratio, 0.7);
+  EXPECT_LT(r.triangles, 60000u);
 }
 
 INSTANTIATE_TEST_SUITE_P(Soups, SharedSoup,
