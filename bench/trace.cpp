@@ -15,7 +15,8 @@
 // line end points move when the charge tolerance (1e-3 ... 1e-7) or the
 // tracer's FMM order is loosened, against a tight reference.
 //
-// Tuning flags: --order P --theta T --leaf K (tracer FMM), --max-triangles N,
+// Flags: --order P --theta T --leaf K (tracer FMM), --min-triangles N,
+// --max-triangles N, --direct-max N, --direct-budget PAIRS, --seeds corners,
 // --no-study, --study-only, --study-triangles N.
 #include <sys/resource.h>
 
@@ -182,7 +183,8 @@ TraceOptions table5_fmm() {
 }
 
 struct Flags {
-  size_t max_tris = 204800, direct_max = 12800, study_tris = 12800;
+  size_t min_tris = 0, max_tris = 204800, direct_max = 12800, study_tris = 12800;
+  double direct_budget = 1e9;  // point-triangle pairs the direct run may spend per size
   bool corners = false, study = true, table = true;
   TraceOptions trace = table5_fmm();
 };
@@ -201,6 +203,7 @@ void run_table5(const Flags& f, const bench::Args& args) {
   double ratio_at_max_direct = NAN, fmm_at_max_direct = NAN, cpu_ratio_at_max_direct = NAN;
   for (int n : sizes) {
     if (static_cast<size_t>(n) > f.max_tris) break;
+    if (static_cast<size_t>(n) < f.min_tris) continue;
     TriMesh mesh = shapes::torus_with(1.0, 0.5, n);
     Soup soup = shapes::to_soup(mesh);
     ChargeOptions co;
@@ -241,7 +244,7 @@ void run_table5(const Flags& f, const bench::Args& args) {
     // Direct summation costs n per evaluation: measure on at most ~1e9
     // point-triangle pairs' worth of lines and scale per line.
     const double pairs_per_line = 100.0 * n;
-    const size_t budget = args.quick ? 2e8 : 1e9;
+    const double budget = args.quick ? 2e8 : f.direct_budget;
     size_t every = std::max<size_t>(1, static_cast<size_t>(seeds.size() * pairs_per_line / budget));
     std::vector<TraceSeed> sub;
     for (size_t i = 0; i < seeds.size(); i += every) sub.push_back(seeds[i]);
@@ -341,6 +344,8 @@ int run_trace(const bench::Args& args) {
     const std::string& a = args.rest[i];
     const bool has = i + 1 < args.rest.size();
     if (a == "--max-triangles" && has) f.max_tris = std::stoul(args.rest[++i]);
+    else if (a == "--min-triangles" && has) f.min_tris = std::stoul(args.rest[++i]);
+    else if (a == "--direct-budget" && has) f.direct_budget = std::stod(args.rest[++i]);
     else if (a == "--direct-max" && has) f.direct_max = std::stoul(args.rest[++i]);
     else if (a == "--study-triangles" && has) f.study_tris = std::stoul(args.rest[++i]);
     else if (a == "--order" && has) f.trace.fmm_order = std::stoi(args.rest[++i]);
