@@ -1,7 +1,8 @@
 // soupuv-bench atlas: build_atlas on closed meshes (spheres, tori, a genus-3
 // surface, cube, cylinder, a CAD-like drilled block) at growing sizes; one
 // JSON line per mesh with the issue-5 figures (charts, stretch, flips,
-// overlap, utilisation, seconds), then a summary with the worst values.
+// overlap, utilisation, seconds, seam_length and seam_length_relative = seam
+// length / sqrt(surface area)), then a summary with the worst values.
 // Without --quick also 50k-100k meshes and the proxies (build_proxy with its
 // defaults) of the shared sample soups spot, fandisk and suzanne.
 // --quick: small sizes only (about a minute on a busy 2-core machine).
