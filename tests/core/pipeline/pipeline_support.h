@@ -44,12 +44,14 @@ inline TriMesh v_plates(int n, double half_angle_deg) {
 // The targets. Continuity is bounded by the atlas's seams: on the
 // small soups a ctest can afford (hundreds of triangles) every chart border
 // cuts a large share of the pairs, so the 95 % target is checked in
-// `soupuv-bench pipeline` on the shared soups and only a floor here.
+// `soupuv-bench pipeline` on the shared soups and only a floor here
+// (measured on the 800-triangle noisy sphere: 0.92 with shared lines and the
+// neighbour-aware §8 choice; 0.85 before them).
 struct Targets {
   double coverage = 1.0;
   double flipped = 0.005;
   double stretch = 1.3;
-  double continuity = 0.7;
+  double continuity = 0.9;
 };
 
 inline void expect_targets(const nlohmann::json& d, const Targets& t = {}) {

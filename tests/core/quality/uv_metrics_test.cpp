@@ -142,3 +142,22 @@ TEST(UvMetrics, OriginalMeshGivesExactAdjacency) {
   auto adj = metric_adjacency(noisy, &original, 0);
   EXPECT_EQ(adj.size(), sphere.faces.size() * 3 / 2);
 }
+
+// A triangle smaller than the tolerance must keep three vertices: the weld
+// never joins two corners of one triangle, even through a chain of twins.
+TEST(Weld, NeverCollapsesATriangle) {
+  Soup s;
+  const double e = 1e-3;  // edge length, below the tolerance
+  s.positions = {{0, 0, 0}, {e, 0, 0}, {0, e, 0},           // the tiny triangle
+                 {0, 0, 0}, {e, 0, 0}, {0.5 * e, -e, 0}};  // its neighbour (shares an edge)
+  s.triangles = {{0, 1, 2}, {3, 4, 5}};
+  s.origins.resize(2);
+  Weld w = weld_corners(s, 10 * e);
+  EXPECT_NE(w.corner_vertex[0], w.corner_vertex[1]);
+  EXPECT_NE(w.corner_vertex[0], w.corner_vertex[2]);
+  EXPECT_NE(w.corner_vertex[1], w.corner_vertex[2]);
+  EXPECT_NE(w.corner_vertex[3], w.corner_vertex[4]);
+  // Nearest first: each corner of the shared edge joins its exact twin.
+  EXPECT_EQ(w.corner_vertex[0], w.corner_vertex[3]);
+  EXPECT_EQ(w.corner_vertex[1], w.corner_vertex[4]);
+}

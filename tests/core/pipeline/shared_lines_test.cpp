@@ -1,0 +1,40 @@
+// The two continuity fixes on one noisy sphere: shared field lines per
+// welded position, and the neighbour-aware §8 chart choice against the
+// paper's per-triangle rule.
+#include <gtest/gtest.h>
+
+#include "pipeline_support.h"
+
+using namespace soupuv;
+using namespace soupuv::testing;
+
+TEST(SharedLines, OneLinePerWeldedPositionAndFewerCuts) {
+  TriMesh mesh = shapes::sphere_with(1.0, 400);
+  Soup soup = shapes::to_soup(mesh, 1e-3, 1);
+  Soup original = welded(mesh);
+  MapOptions o = fast_options();
+  o.original = &original;
+  MapResult shared = run_map(soup, o);
+  // (One line per corner, share_lines = false, costs a trace of 3x the lines:
+  // measured on 400 triangles, continuity 0.872 against 0.878 shared; kept
+  // out of the suite for time.)
+  o.chart_fix_neighbours = false;
+  MapResult paper_rule = run_map(soup, o);
+
+  const auto& d = shared.diagnostics;
+  // Copies weld to their twins: about one line per mesh vertex (a copy the
+  // noise put beyond the weld tolerance keeps a line of its own).
+  const size_t lines = d["trace"]["lines"].get<size_t>();
+  EXPECT_GE(lines, mesh.vertices.size());
+  EXPECT_LE(lines, mesh.vertices.size() + mesh.vertices.size() / 50);
+  EXPECT_EQ(d["orient"]["components"], 1);
+  // Copies of a shared corner land together: no pair is cut by a split or
+  // a divergence, only by the atlas's seams.
+  EXPECT_EQ(d["uv"]["causes"]["split_charts"], 0) << d["uv"]["causes"].dump();
+  EXPECT_EQ(d["uv"]["causes"]["diverged"], 0) << d["uv"]["causes"].dump();
+  const double c_shared = d["uv"]["continuity"].get<double>();
+  const double c_paper = paper_rule.diagnostics["uv"]["continuity"].get<double>();
+  std::cout << "continuity: shared + neighbours " << c_shared << ", paper's §8 rule " << c_paper << "\n";
+  // Measured (400 triangles): 0.878 against the paper's rule 0.793.
+  EXPECT_GT(c_shared, c_paper + 0.05);
+}

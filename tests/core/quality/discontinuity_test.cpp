@@ -1,0 +1,64 @@
+// The discontinuity breakdown: every pair uv_metrics calls discontinuous gets
+// exactly one cause, and the causes follow what the transfer reported.
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "soupuv/quality/discontinuity.h"
+#include "soupuv/quality/uv_metrics.h"
+
+using namespace soupuv;
+using namespace soupuv::quality;
+
+namespace {
+
+// Four triangles in a row (a strip), split into a soup.
+Soup strip() {
+  Soup s;
+  for (int i = 0; i < 4; ++i) {
+    Vec3 a{double(i), 0, 0}, b{double(i + 1), 0, 0}, c{double(i), 1, 0}, d{double(i + 1), 1, 0};
+    uint32_t base = uint32_t(s.positions.size());
+    s.positions.insert(s.positions.end(), {a, b, d, a, d, c});
+    s.triangles.push_back({base, base + 1, base + 2});
+    s.triangles.push_back({base + 3, base + 4, base + 5});
+  }
+  s.origins.resize(s.triangles.size());
+  return s;
+}
+
+}  // namespace
+
+TEST(Discontinuity, EveryCutPairGetsOneCause) {
+  Soup s = strip();
+  const size_t n = s.triangles.size();
+  CornerUvs uv(n);
+  for (size_t t = 0; t < n; ++t)
+    for (int k = 0; k < 3; ++k) uv[t][k] = {0.1 + 0.1 * s.corner(t, k).x, 0.1 + 0.1 * s.corner(t, k).y};
+  auto pairs = edge_adjacency(weld_corners(s, 0.0), n);
+  ASSERT_EQ(pairs.size(), 7u);
+  CornerLanding land;
+  land.missed.assign(3 * n, 0);
+  land.first_chart.assign(3 * n, 0);
+  land.final_chart.assign(3 * n, 0);
+  // Pairs: (0,1) (2,3) (4,5) (6,7) within the cells, (0,3) (2,5) (4,7)
+  // across. Triangle 3 moved far and its corners landed on chart 1 (split:
+  // its pairs with 0 and 2); triangle 5 moved on the same chart (diverged:
+  // with 2 and 4); triangle 7's corner 0 moved and its line missed (with 4, 6).
+  for (int k = 0; k < 3; ++k) uv[3][k].x += 0.5, land.first_chart[9 + k] = 1, land.final_chart[9 + k] = 1;
+  for (int k = 0; k < 3; ++k) uv[5][k].y += 0.3;
+  uv[7][0].x += 0.2;
+  land.missed[21] = 1;
+  UvMetricsOptions mo;
+  mo.uv_per_length = 0.1;
+  UvMetrics m = uv_metrics(s, uv, pairs, mo);
+  DiscontinuityBreakdown b = discontinuity_breakdown(s, uv, pairs, land, mo.texture_size, 0.1);
+  EXPECT_EQ(b.pairs, pairs.size());
+  EXPECT_EQ(b.discontinuous, size_t(std::llround((1 - m.continuity) * double(pairs.size()))));
+  EXPECT_EQ(b.discontinuous, b.missed + b.split + b.corrected + b.diverged);
+  EXPECT_EQ(b.discontinuous, 6u);
+  EXPECT_EQ(b.split, 2u);
+  EXPECT_EQ(b.diverged, 2u);
+  EXPECT_EQ(b.missed, 2u);
+  EXPECT_EQ(b.corrected, 0u);
+  EXPECT_EQ(b.flipped, m.flipped);
+}
