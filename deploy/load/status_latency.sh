@@ -74,12 +74,14 @@ upload() {
     [ "$code" = 202 ] || sleep 0.5  # queue full or uploads busy: back off as a client would
   done
 }
+curl -sS "${h[@]}" "$url/metrics" > "$work/metrics.before"
 for _ in $(seq 1 "$probers"); do
   probe status "$status_url" & probe healthz "$url/healthz" & probe readyz "$url/readyz" &
 done
 for _ in $(seq 1 "$uploaders"); do upload & done
 wait
 busy_after=$(metric workers_busy)
+curl -sS "${h[@]}" "$url/metrics" > "$work/metrics.after"
 
 # 3. report
 cat "$work"/samples.* > "$work/all"
@@ -92,6 +94,29 @@ report() {
     printf " max=%.2fms\n", a[NR] * 1000 }'
 }
 for e in status healthz readyz; do report $e; done
+# Inside the server (soupuv_http_request_duration_seconds, headers read to
+# response written), over the probe window: if these are small while the
+# client's tail is long, the tail is waiting for a CPU, not the server's work.
+server_side() {  # $1 = route class
+  awk -v r="route=\"$1\"" '
+    FNR == 1 { f++ }
+    index($0, "soupuv_http_request_duration_seconds_bucket{" r ",") == 1 {
+      le = $0; sub(/.*le="/, "", le); sub(/".*/, "", le)
+      if (f == 1) before[le] = $2; else { after[le] = $2; order[++n] = le } }
+    END {
+      total = after["+Inf"] - before["+Inf"]
+      if (total <= 0) { printf "%-8s server-side: no samples\n", substr(r, 8, length(r) - 8); exit }
+      p99 = "?"; under1 = 0; under10 = 0
+      for (i = 1; i <= n; i++) {
+        c = after[order[i]] - before[order[i]]
+        if (order[i] == "0.001") under1 = c
+        if (order[i] == "0.01") under10 = c
+        if (p99 == "?" && c >= 0.99 * total) p99 = order[i]
+      }
+      printf "%-8s server-side: n=%d, %.1f%% <= 1 ms, %.1f%% <= 10 ms, p99 <= %s s\n", substr(r, 8, length(r) - 8), total, 100 * under1 / total, 100 * under10 / total, p99 }
+  ' "$work/metrics.before" "$work/metrics.after"
+}
+for e in status healthz readyz; do server_side $e; done
 echo "status codes: $(awk '{print $1 "=" $2}' "$work/all" | sort | uniq -c | tr '\n' ' ')"
 echo "uploads during the probe, by HTTP status: $(sort "$work/upload_codes" 2>/dev/null | uniq -c | tr '\n' ' ')"
 echo "workers busy at the end: $busy_after of $workers"

@@ -14,17 +14,47 @@ void Metrics::http_request(int status) {
   ++http_by_code_[status];
 }
 
-void Metrics::stage_seconds(const std::string& stage, double seconds) {
-  std::lock_guard lock(mu_);
-  auto& h = stages_[stage];
-  if (h.raw.empty()) h.raw.assign(buckets().size(), 0);
-  for (size_t i = 0; i < buckets().size(); ++i)
-    if (seconds <= buckets()[i]) {
+const std::vector<double>& Metrics::http_buckets() {
+  static const std::vector<double> b = {0.0005, 0.001, 0.0025, 0.005, 0.01, 0.025, 0.05, 0.1, 0.5, 1, 5, 30};
+  return b;
+}
+
+namespace {
+template <typename H>
+void observe(H& h, const std::vector<double>& bounds, double seconds) {
+  if (h.raw.empty()) h.raw.assign(bounds.size(), 0);
+  for (size_t i = 0; i < bounds.size(); ++i)
+    if (seconds <= bounds[i]) {
       ++h.raw[i];
       break;
     }
   h.sum += seconds;
   ++h.count;
+}
+
+// Prometheus histogram lines (cumulative buckets, +Inf, sum, count).
+template <typename H>
+void render_histogram(std::ostringstream& o, const std::string& name, const std::string& label,
+                      const std::string& value, const H& h, const std::vector<double>& bounds) {
+  uint64_t cum = 0;
+  for (size_t i = 0; i < bounds.size(); ++i) {
+    cum += h.raw[i];
+    o << name << "_bucket{" << label << "=\"" << value << "\",le=\"" << bounds[i] << "\"} " << cum << "\n";
+  }
+  o << name << "_bucket{" << label << "=\"" << value << "\",le=\"+Inf\"} " << h.count << "\n";
+  o << name << "_sum{" << label << "=\"" << value << "\"} " << h.sum << "\n";
+  o << name << "_count{" << label << "=\"" << value << "\"} " << h.count << "\n";
+}
+}  // namespace
+
+void Metrics::stage_seconds(const std::string& stage, double seconds) {
+  std::lock_guard lock(mu_);
+  observe(stages_[stage], buckets(), seconds);
+}
+
+void Metrics::http_duration(const std::string& route, double seconds) {
+  std::lock_guard lock(mu_);
+  observe(http_durations_[route], http_buckets(), seconds);
 }
 
 void Metrics::job_finished(const std::string& state) {
@@ -61,17 +91,12 @@ std::string Metrics::render(const std::map<std::string, double>& gauges) const {
     o << "soupuv_jobs_finished_total{state=\"" << state << "\"} " << n << "\n";
   o << "# HELP soupuv_stage_duration_seconds Pipeline stage durations reported by workers.\n"
        "# TYPE soupuv_stage_duration_seconds histogram\n";
-  for (const auto& [stage, h] : stages_) {
-    uint64_t cum = 0;
-    for (size_t i = 0; i < buckets().size(); ++i) {
-      cum += h.raw[i];
-      o << "soupuv_stage_duration_seconds_bucket{stage=\"" << stage << "\",le=\"" << buckets()[i]
-        << "\"} " << cum << "\n";
-    }
-    o << "soupuv_stage_duration_seconds_bucket{stage=\"" << stage << "\",le=\"+Inf\"} " << h.count << "\n";
-    o << "soupuv_stage_duration_seconds_sum{stage=\"" << stage << "\"} " << h.sum << "\n";
-    o << "soupuv_stage_duration_seconds_count{stage=\"" << stage << "\"} " << h.count << "\n";
-  }
+  for (const auto& [stage, h] : stages_)
+    render_histogram(o, "soupuv_stage_duration_seconds", "stage", stage, h, buckets());
+  o << "# HELP soupuv_http_request_duration_seconds Time inside the server per request (headers read to response written).\n"
+       "# TYPE soupuv_http_request_duration_seconds histogram\n";
+  for (const auto& [route, h] : http_durations_)
+    render_histogram(o, "soupuv_http_request_duration_seconds", "route", route, h, http_buckets());
   o << "# HELP soupuv_cache_hits_total Field-cache hits reported in job diagnostics.\n"
        "# TYPE soupuv_cache_hits_total counter\nsoupuv_cache_hits_total " << cache_hits_ << "\n";
   o << "# HELP soupuv_upload_bytes_total Bytes of accepted uploads.\n"

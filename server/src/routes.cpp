@@ -4,6 +4,7 @@
 // auth, CORS, problem+json for every error) are installed here too.
 #include <sys/stat.h>
 
+#include <chrono>
 #include <filesystem>
 #include <fstream>
 
@@ -351,6 +352,15 @@ void serve_output(ServerContext& ctx, const httplib::Request& req, httplib::Resp
   if (name == "result.glb") res.set_header("Content-Disposition", "attachment; filename=\"" + job->id + ".glb\"");
 }
 
+// Per connection thread: when the request being served entered routing.
+thread_local std::optional<std::chrono::steady_clock::time_point> t_request_started;
+
+std::string route_class(const httplib::Request& req) {
+  if (req.path == "/healthz" || req.path == "/readyz") return req.path.substr(1);
+  if (req.method == "GET" && req.path.size() == 36 && req.path.rfind("/v1/jobs/", 0) == 0) return "status";
+  return "other";
+}
+
 bool cors_allowed(const ServerContext& ctx, const std::string& origin) {
   return !origin.empty() && std::find(ctx.config.cors_origins.begin(), ctx.config.cors_origins.end(), origin) !=
                                 ctx.config.cors_origins.end();
@@ -392,6 +402,7 @@ void register_routes(httplib::Server& http, ServerContext& ctx) {
     return res.status;
   });
   http.set_pre_routing_handler([&ctx, guard](const httplib::Request& req, httplib::Response& res) {
+    t_request_started = std::chrono::steady_clock::now();
     const std::string origin = req.get_header_value("Origin");
     if (cors_allowed(ctx, origin)) {
       res.set_header("Access-Control-Allow-Origin", origin);
@@ -436,6 +447,11 @@ void register_routes(httplib::Server& http, ServerContext& ctx) {
   }));
   http.set_logger([&ctx](const httplib::Request& req, const httplib::Response& res) {
     ctx.metrics.http_request(res.status);
+    if (t_request_started) {  // unset when httplib answered before routing (bad request line)
+      ctx.metrics.http_duration(route_class(req),
+                                std::chrono::duration<double>(std::chrono::steady_clock::now() - *t_request_started).count());
+      t_request_started.reset();
+    }
     if (req.path == "/healthz" || req.path == "/readyz" || req.path == "/metrics") return;
     // Status polls are the bulk of the traffic and say nothing new; failures still log.
     if (req.method == "GET" && res.status == 200 && req.path.size() == 36 && req.path.rfind("/v1/jobs/", 0) == 0) return;

@@ -171,6 +171,12 @@ TEST(Metrics, PrometheusTextHasHistogramsAndCounters) {
   EXPECT_NE(t.find("soupuv_stage_duration_seconds_count{stage=\"load\"} 2"), std::string::npos);
   EXPECT_NE(t.find("soupuv_queue_depth 3"), std::string::npos);
   EXPECT_NE(t.find("soupuv_jobs{state=\"queued\"} 3"), std::string::npos);
+  m.http_duration("status", 0.0003);
+  m.http_duration("status", 0.02);
+  t = m.render({});
+  EXPECT_NE(t.find("soupuv_http_request_duration_seconds_bucket{route=\"status\",le=\"0.0005\"} 1"), std::string::npos) << t;
+  EXPECT_NE(t.find("soupuv_http_request_duration_seconds_bucket{route=\"status\",le=\"0.025\"} 2"), std::string::npos) << t;
+  EXPECT_NE(t.find("soupuv_http_request_duration_seconds_count{route=\"status\"} 2"), std::string::npos) << t;
 }
 
 TEST(SqliteJobStore, LifecyclePagingIdempotencyAndPersistence) {

@@ -14,6 +14,10 @@ namespace soupuv::server {
 class Metrics {
  public:
   void http_request(int status);
+  // Time inside the server for one request (headers parsed -> response
+  // written), by route class: status, healthz, readyz, other. Compared with a
+  // client's latency it separates the server's work from waiting for a CPU.
+  void http_duration(const std::string& route, double seconds);
   void stage_seconds(const std::string& stage, double seconds);
   void job_finished(const std::string& state);
   void cache_hits(int64_t hits);
@@ -24,6 +28,7 @@ class Metrics {
 
  private:
   static const std::vector<double>& buckets();
+  static const std::vector<double>& http_buckets();
   struct Histogram {
     std::vector<uint64_t> counts;  // cumulative per bucket, filled at render
     std::vector<uint64_t> raw;
@@ -33,6 +38,7 @@ class Metrics {
   mutable std::mutex mu_;
   std::map<int, uint64_t> http_by_code_;
   std::map<std::string, Histogram> stages_;
+  std::map<std::string, Histogram> http_durations_;
   std::map<std::string, uint64_t> finished_by_state_;
   uint64_t cache_hits_ = 0;
   uint64_t upload_bytes_ = 0;
