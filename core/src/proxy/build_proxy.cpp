@@ -78,18 +78,19 @@ std::vector<Vec3> used_positions(const Soup& soup) {
 struct Extraction {
   TriMesh mesh;
   int outer = 0, inner = 0;
-  size_t raw_triangles = 0, collapsed_triangles = 0, surface_cells = 0, evaluations = 0;
+  size_t raw_triangles = 0, collapsed_triangles = 0, surface_cells = 0, evaluations = 0, pruned = 0;
   double cell = 0;
   double seconds_grid = 0, seconds_extract = 0, seconds_decimate = 0;
 };
 
 Extraction extract(const TriangleBvh& bvh, const Box3& box, double offset, int resolution,
-                   bool cubes, double collapse_to, Progress& progress) {
+                   bool cubes, bool prune, double collapse_to, Progress& progress) {
   Extraction ex;
   Vec3 ext = box.extent();
   ex.cell = std::max({ext.x, ext.y, ext.z}) / resolution;
   auto t0 = Clock::now();
-  NarrowBand band = build_narrow_band(bvh, box, offset, ex.cell, progress);
+  NarrowBand band = build_narrow_band(bvh, box, offset, ex.cell, progress, prune);
+  ex.pruned = band.pruned_cells;
   ex.seconds_grid = since(t0);
   ex.surface_cells = band.cells.size();
   ex.evaluations = band.distance_evaluations;
@@ -195,6 +196,7 @@ nlohmann::json ProxyResult::diagnostics() const {
       {"raw_triangles", raw_triangles},
       {"collapsed_triangles", collapsed_triangles},
       {"surface_cells", surface_cells},
+      {"pruned_cells", pruned_cells},
       {"distance_evaluations", distance_evaluations},
       {"offset", offset},
       {"offset_fraction", offset_fraction},
@@ -259,10 +261,11 @@ ProxyResult build_proxy(const Soup& soup, const ProxyOptions& options, Progress&
 
     const double target = options.target_edge_length > 0 ? options.target_edge_length : offset;
     Extraction ex = extract(soup_bvh, box, offset, r.resolution, options.marching_cubes,
-                            options.remesh ? target : 0.0, progress);
+                            options.prune_cavities, options.remesh ? target : 0.0, progress);
     r.cell_size = ex.cell;
     r.raw_triangles = ex.raw_triangles;
     r.surface_cells = ex.surface_cells;
+    r.pruned_cells = ex.pruned;
     r.distance_evaluations = ex.evaluations;
     r.inner_components = ex.inner;
     r.seconds_grid = ex.seconds_grid;

@@ -15,8 +15,83 @@ double NarrowBand::value(uint64_t key) const {
   return corner_values[it - corner_keys.begin()];
 }
 
+namespace {
+
+enum Label : uint8_t { kInside = 0, kOutside = 1, kBand = 2, kReached = 4 };
+
+// A cell dropped as certainly outside at some level: painted into the dense
+// label grid of every finer level that is pruned.
+struct OutsideCell {
+  int level;
+  uint64_t key;
+};
+
+// Marks the band cells of `level` that the region reachable from the grid
+// border (through cells not certainly inside, 6-connected) never touches;
+// returns false in `keep` for them. `labels` holds kInside/kOutside/kBand per
+// current cell; `outside` the certainly-outside cells of all coarser levels.
+size_t prune_cavities(const std::array<int, 3>& dims, int level, const std::vector<uint64_t>& current,
+                      const std::vector<uint8_t>& labels, const std::vector<OutsideCell>& outside,
+                      std::vector<char>& keep, std::vector<char>& reached_cell) {
+  const int64_t n[3] = {(dims[0] + (1 << level) - 1) >> level, (dims[1] + (1 << level) - 1) >> level,
+                        (dims[2] + (1 << level) - 1) >> level};
+  const int64_t total = n[0] * n[1] * n[2];
+  auto index = [&](int64_t i, int64_t j, int64_t k) { return i + n[0] * (j + n[1] * k); };
+  std::vector<uint8_t> grid(size_t(total), kInside);
+  for (const OutsideCell& o : outside) {
+    auto c = grid_coords(o.key);
+    int64_t scale = int64_t{1} << (o.level - level);
+    int64_t lo[3], hi[3];
+    for (int a = 0; a < 3; ++a) {
+      lo[a] = c[a] * scale;
+      hi[a] = std::min<int64_t>(lo[a] + scale, n[a]);
+    }
+    for (int64_t k = lo[2]; k < hi[2]; ++k)
+      for (int64_t j = lo[1]; j < hi[1]; ++j)
+        std::fill(grid.begin() + index(lo[0], j, k), grid.begin() + index(hi[0], j, k), uint8_t(kOutside));
+  }
+  for (size_t m = 0; m < current.size(); ++m) {
+    auto c = grid_coords(current[m]);
+    grid[size_t(index(c[0], c[1], c[2]))] = labels[m];
+  }
+  // Flood from the border through every cell that is not certainly inside.
+  std::vector<int64_t> queue;
+  auto push = [&](int64_t i, int64_t j, int64_t k) {
+    uint8_t& g = grid[size_t(index(i, j, k))];
+    if (g == kInside || (g & kReached)) return;
+    g |= kReached;
+    queue.push_back(index(i, j, k));
+  };
+  for (int64_t k = 0; k < n[2]; ++k)
+    for (int64_t j = 0; j < n[1]; ++j)
+      for (int64_t i = 0; i < n[0]; ++i)
+        if (i == 0 || j == 0 || k == 0 || i == n[0] - 1 || j == n[1] - 1 || k == n[2] - 1) push(i, j, k);
+  for (size_t q = 0; q < queue.size(); ++q) {
+    int64_t id = queue[q];
+    int64_t i = id % n[0], j = (id / n[0]) % n[1], k = id / (n[0] * n[1]);
+    if (i > 0) push(i - 1, j, k);
+    if (i + 1 < n[0]) push(i + 1, j, k);
+    if (j > 0) push(i, j - 1, k);
+    if (j + 1 < n[1]) push(i, j + 1, k);
+    if (k > 0) push(i, j, k - 1);
+    if (k + 1 < n[2]) push(i, j, k + 1);
+  }
+  size_t pruned = 0;
+  for (size_t m = 0; m < current.size(); ++m) {
+    auto c = grid_coords(current[m]);
+    reached_cell[m] = (grid[size_t(index(c[0], c[1], c[2]))] & kReached) != 0;
+    if (keep[m] && !reached_cell[m]) {
+      keep[m] = 0;
+      ++pruned;
+    }
+  }
+  return pruned;
+}
+
+}  // namespace
+
 NarrowBand build_narrow_band(const TriangleBvh& bvh, const Box3& box, double offset,
-                             double cell, Progress& progress) {
+                             double cell, Progress& progress, bool outer_only) {
   NarrowBand band;
   band.offset = offset;
   band.cell = cell;
@@ -44,13 +119,17 @@ NarrowBand build_narrow_band(const TriangleBvh& bvh, const Box3& box, double off
   std::vector<uint32_t> hint(current.size(), UINT32_MAX);
 
   size_t evaluations = 0;
-  // Refine down to cells of size 2h by the Lipschitz test on their centers;
-  // their children are the candidate leaves, decided by their corners below.
-  for (int level = levels; level >= 1; --level) {
+  std::vector<OutsideCell> outside;  // certainly-outside cells of coarser levels
+  // Refine down to cells of size h by the Lipschitz test on their centers
+  // (and the cavity pruning); the survivors of level 0 are the candidate
+  // leaves, decided by their corners below. Testing level 0 too costs one
+  // distance per candidate and drops about half of them before their corners.
+  for (int level = levels; level >= 0; --level) {
     progress.update("proxy: narrow band", double(levels - level) / (levels + 1));
     double size = cell * (1 << level);
     double half_diagonal = 0.5 * std::sqrt(3.0) * size * (1 + 1e-9);
     std::vector<char> keep(current.size());
+    std::vector<uint8_t> labels(current.size());
     // A cell can hold the level set only if |d(center) - o| <= half-diagonal.
 #pragma omp parallel for schedule(dynamic, 256)
     for (long n = 0; n < long(current.size()); ++n) {
@@ -61,8 +140,30 @@ NarrowBand build_narrow_band(const TriangleBvh& bvh, const Box3& box, double off
       double lo = offset - half_diagonal, hi = offset + half_diagonal;
       double d = bvh.distance(center, lo, hi, &hint[n]);
       keep[n] = d > lo && d < hi;
+      labels[n] = keep[n] ? kBand : d >= hi ? kOutside : kInside;
     }
     evaluations += current.size();
+    const int64_t cells_at_level = int64_t((band.dims[0] >> level) + 1) * ((band.dims[1] >> level) + 1) *
+                                   ((band.dims[2] >> level) + 1);
+    std::vector<char> reached(current.size(), 1);
+    if (outer_only && cells_at_level <= (int64_t{1} << 25))
+      band.pruned_cells += prune_cavities(band.dims, level, current, labels, outside, keep, reached);
+    // Certainly-outside cells the border reaches matter to finer levels'
+    // floods; enclosed ones (cavities) never will.
+    if (outer_only)
+      for (size_t n = 0; n < current.size(); ++n)
+        if (labels[n] == kOutside && reached[n]) outside.push_back({level, current[n]});
+    if (level == 0) {
+      size_t kept = 0;
+      for (size_t n = 0; n < current.size(); ++n)
+        if (keep[n]) {
+          current[kept] = current[n];
+          hint[kept++] = hint[n];
+        }
+      current.resize(kept);
+      hint.resize(kept);
+      break;
+    }
     std::vector<uint64_t> next;
     std::vector<uint32_t> next_hint;
     for (size_t n = 0; n < current.size(); ++n) {

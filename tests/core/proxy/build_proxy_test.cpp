@@ -25,7 +25,9 @@ TEST(BuildProxy, SphereIsOneGenusZeroShell) {
   expect_valid_proxy(r, soup, 1);
   EXPECT_EQ(r.genus, 0);
   EXPECT_EQ(r.euler, 2);
-  EXPECT_EQ(r.inner_components, 1);  // the closed sphere's cavity, dropped
+  // The closed sphere's cavity is pruned from the narrow band, never built.
+  EXPECT_EQ(r.inner_components, 0);
+  EXPECT_GT(r.pruned_cells, 0u);
   // The proxy lies near d = o: its vertices' radius is about 1 + o.
   double o = r.offset;
   for (size_t i = 0; i < r.proxy.mesh.vertices.size(); i += 17)
@@ -75,11 +77,23 @@ TEST(BuildProxy, VOfTwoPlates) {
 TEST(BuildProxy, HollowShellDropsInnerComponents) {
   Soup soup = shapes::merge(shapes::to_soup(shapes::icosphere(1.0, 3)),
                             shapes::to_soup(shapes::icosphere(0.6, 3)));
-  ProxyResult r = build_proxy(soup, relative(0.02));
+  // The safety net: without pruning every shell is built, inner ones dropped.
+  ProxyOptions unpruned = relative(0.02);
+  unpruned.prune_cavities = false;
+  ProxyResult r = build_proxy(soup, unpruned);
   expect_valid_proxy(r, soup, 1);
   EXPECT_GE(r.inner_components, 2);
+  EXPECT_EQ(r.pruned_cells, 0u);
   // Only the outer shell is left: all vertices near radius 1 + o.
   for (const Vec3& v : r.proxy.mesh.vertices) EXPECT_GT(norm(v), 1.0);
+  // With pruning the cavity is never refined: no inner shell to drop, and
+  // about half the raw triangles for the same outer shell.
+  ProxyResult pruned = build_proxy(soup, relative(0.02));
+  expect_valid_proxy(pruned, soup, 1);
+  EXPECT_GT(pruned.pruned_cells, 0u);
+  EXPECT_EQ(pruned.inner_components, 0);
+  EXPECT_LT(pruned.raw_triangles, r.raw_triangles * 2 / 3);
+  for (const Vec3& v : pruned.proxy.mesh.vertices) EXPECT_GT(norm(v), 1.0);
 }
 
 TEST(BuildProxy, FarApartPartsGiveTwoOuterComponentsAndAWarning) {
@@ -119,9 +133,10 @@ TEST(BuildProxy, RawLevelSetWithoutRemeshOrSmoothingIsValid) {
   o.smoothing_iterations = 0;
   ProxyResult r = build_proxy(soup, o);
   expect_valid_proxy(r, soup, 1);
-  // The closed torus soup's cavity is the only face set removed.
-  EXPECT_EQ(r.inner_components, 1);
-  EXPECT_LT(r.triangles, r.raw_triangles);
+  // The closed torus soup's cavity is pruned from the band: nothing removed.
+  EXPECT_EQ(r.inner_components, 0);
+  EXPECT_GT(r.pruned_cells, 0u);
+  EXPECT_EQ(r.triangles, r.raw_triangles);
   EXPECT_EQ(r.genus, 1);
 }
 

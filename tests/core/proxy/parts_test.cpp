@@ -139,7 +139,8 @@ TEST(ProxyParts, NarrowBandKeepsEveryCrossingCellOfADenseGrid) {
   TriangleBvh bvh(soup);
   Box3 box = bounding_box(soup);
   double offset = 0.08, cell = 1.0 / 40;
-  NarrowBand band = build_narrow_band(bvh, box, offset, cell, Progress::none());
+  // Without pruning: the closed cube's inner shell is in the band too.
+  NarrowBand band = build_narrow_band(bvh, box, offset, cell, Progress::none(), false);
   // Dense twin: every cell whose corners change sign must be in the band.
   size_t dense_cells = 0, crossing = 0, missing = 0;
   for (int k = 0; k < band.dims[2]; ++k)
@@ -169,14 +170,64 @@ TEST(ProxyParts, NarrowBandKeepsEveryCrossingCellOfADenseGrid) {
   }
 }
 
+// Pruning keeps exactly the crossing cells of the outer shell: those the
+// dense twin's flood fill from the border (through f > 0 corners) touches.
+TEST(ProxyParts, PrunedNarrowBandKeepsTheOuterShellOnly) {
+  Soup soup = shapes::to_soup(shapes::cube(1.0, 2), 0.002, 5);
+  TriangleBvh bvh(soup);
+  Box3 box = bounding_box(soup);
+  double offset = 0.08, cell = 1.0 / 40;
+  NarrowBand full = build_narrow_band(bvh, box, offset, cell, Progress::none(), false);
+  NarrowBand outer = build_narrow_band(bvh, box, offset, cell, Progress::none(), true);
+  EXPECT_GT(outer.pruned_cells, 0u);
+  EXPECT_EQ(full.pruned_cells, 0u);
+  // Dense twin: corners with f > 0 flooded from the border (6-connected);
+  // a crossing cell belongs to the outer shell when it has a flooded corner.
+  const int nx = full.dims[0] + 1, ny = full.dims[1] + 1, nz = full.dims[2] + 1;
+  auto id = [&](int i, int j, int k) { return size_t(i) + size_t(nx) * (size_t(j) + size_t(ny) * size_t(k)); };
+  std::vector<char> positive(size_t(nx) * ny * nz), flooded(positive.size(), 0);
+  for (int k = 0; k < nz; ++k)
+    for (int j = 0; j < ny; ++j)
+      for (int i = 0; i < nx; ++i)
+        positive[id(i, j, k)] =
+            brute_distance(soup, full.origin + Vec3{i * cell, j * cell, k * cell}) - offset >= 0;
+  std::vector<std::array<int, 3>> queue{{0, 0, 0}};
+  flooded[0] = 1;
+  for (size_t q = 0; q < queue.size(); ++q) {
+    auto [i, j, k] = queue[q];
+    const int step[6][3] = {{1, 0, 0}, {-1, 0, 0}, {0, 1, 0}, {0, -1, 0}, {0, 0, 1}, {0, 0, -1}};
+    for (const auto& s : step) {
+      int a = i + s[0], b = j + s[1], c = k + s[2];
+      if (a < 0 || b < 0 || c < 0 || a >= nx || b >= ny || c >= nz) continue;
+      if (!positive[id(a, b, c)] || flooded[id(a, b, c)]) continue;
+      flooded[id(a, b, c)] = 1;
+      queue.push_back({a, b, c});
+    }
+  }
+  size_t outer_crossing = 0;
+  for (uint64_t key : full.cells) {
+    auto c = grid_coords(key);
+    bool touches = false;
+    for (int v = 0; v < 8; ++v) touches |= flooded[id(c[0] + (v & 1), c[1] + ((v >> 1) & 1), c[2] + (v >> 2))];
+    if (!touches) continue;
+    ++outer_crossing;
+    EXPECT_TRUE(std::binary_search(outer.cells.begin(), outer.cells.end(), key));
+  }
+  EXPECT_GT(outer_crossing, 300u);
+  EXPECT_LT(outer.cells.size(), full.cells.size());
+  // The cavity is gone: no kept cell is a crossing cell of the inner shell only.
+  EXPECT_EQ(outer.cells.size(), outer_crossing);
+}
+
 // Halving the cell size must multiply the work by about 4 (the surface), not
 // 8 (the volume).
 TEST(ProxyParts, NarrowBandGrowsWithTheSurfaceNotTheVolume) {
   Soup soup = shapes::to_soup(shapes::icosphere(1.0, 3), 1e-3, 2);
   TriangleBvh bvh(soup);
   Box3 box = bounding_box(soup);
-  NarrowBand coarse = build_narrow_band(bvh, box, 0.03, 0.02, Progress::none());
-  NarrowBand fine = build_narrow_band(bvh, box, 0.03, 0.01, Progress::none());
+  // Unpruned: pruning the inner shell kicks in at the finer cell only.
+  NarrowBand coarse = build_narrow_band(bvh, box, 0.03, 0.02, Progress::none(), false);
+  NarrowBand fine = build_narrow_band(bvh, box, 0.03, 0.01, Progress::none(), false);
   double cells = double(fine.cells.size()) / coarse.cells.size();
   double corners = double(fine.corner_keys.size()) / coarse.corner_keys.size();
   double evaluations = double(fine.distance_evaluations) / coarse.distance_evaluations;

@@ -7,7 +7,17 @@
 //         half-diagonal (d is 1-Lipschitz, so no crossing cell is ever
 //         dropped); the children of the surviving 2h cells are decided by
 //         their corners. Work and memory are proportional to the cells near
-//         the surface, not to the volume; nothing dense is ever allocated.
+//         the surface, not to the volume.
+//         With `outer_only`, cells that cannot touch the outer shell are
+//         pruned at every level: a cell is certainly inside (f <= 0 on all of
+//         it), certainly outside, or band; band cells whose 6-connected
+//         region of not-certainly-inside cells never reaches the grid border
+//         enclose a cavity (the inner offset shell of a closed soup) and are
+//         dropped with their subtree. Any path from the outer shell to the
+//         border stays in f > 0, so it never crosses a certainly-inside cell:
+//         no cell of the outer shell is lost. The only dense memory is one
+//         byte per cell of the level being pruned (levels with more than
+//         2^25 cells are not pruned).
 #pragma once
 
 #include <array>
@@ -39,6 +49,7 @@ struct NarrowBand {
   std::vector<uint64_t> corner_keys;    // corners of the candidate leaf cells, sorted, unique
   std::vector<double> corner_values;    // f = d - o at corner_keys
   size_t distance_evaluations = 0;
+  size_t pruned_cells = 0;              // band cells dropped as cavity (all levels)
 
   Vec3 corner_position(uint64_t key) const {
     auto c = grid_coords(key);
@@ -50,6 +61,6 @@ struct NarrowBand {
 
 // `box` bounds the soup; the grid pads it by o + 2h on every side.
 NarrowBand build_narrow_band(const TriangleBvh& soup_bvh, const Box3& box, double offset,
-                             double cell, Progress& progress);
+                             double cell, Progress& progress, bool outer_only = true);
 
 }  // namespace soupuv::proxy

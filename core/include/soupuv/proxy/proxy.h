@@ -49,6 +49,11 @@ struct ProxyOptions {
   // triangles per cell), or marching tetrahedra (about 6; kept as the
   // simpler, table-free reference).
   bool marching_cubes = true;
+  // Prune the narrow band to cells that can touch the outer shell (flood fill
+  // from the grid border at every level), so the cavity of a closed soup is
+  // never refined, extracted or collapsed. The component split stays as the
+  // safety net; false builds every shell and drops the inner ones afterwards.
+  bool prune_cavities = true;
 
   // Remeshing to a target edge length: our short-edge collapse (link
   // condition, no flips), then remesh_iterations of CGAL PMP isotropic
@@ -94,6 +99,7 @@ struct ProxyResult {
   size_t raw_triangles = 0;      // straight out of marching cubes / tetrahedra
   size_t collapsed_triangles = 0;  // after our short-edge collapse, before CGAL remeshing
   size_t surface_cells = 0;      // leaf cells of the narrow band
+  size_t pruned_cells = 0;       // band cells dropped as cavity, all levels
   size_t distance_evaluations = 0;
   double offset = 0;             // absolute offset used
   double offset_fraction = 0;    // offset / bounding-box diagonal
