@@ -6,7 +6,10 @@
 //   scaling  a ~100k-triangle noisy soup at resolution 128, 256, 512 (fixed
 //            offset): seconds and peak memory, and their log-log slopes.
 // Flags: --quick (small subset, about a minute), --only=table1|soups|scaling,
-//        --resolutions=128,256 (scaling: these instead of the default list).
+//        --resolutions=128,256 (scaling: these instead of the default list),
+//        --no-prune (scaling without the cavity pruning, for comparison).
+#include <sys/resource.h>
+
 #include <filesystem>
 #include <iostream>
 #include <sstream>
@@ -21,6 +24,14 @@
 
 namespace soupuv::bench {
 namespace {
+
+// Process CPU seconds (user + sys, all threads): the machine is shared, so
+// wall time alone says little.
+double cpu_seconds() {
+  rusage u{};
+  getrusage(RUSAGE_SELF, &u);
+  return u.ru_utime.tv_sec + u.ru_stime.tv_sec + 1e-6 * (u.ru_utime.tv_usec + u.ru_stime.tv_usec);
+}
 
 // Resets VmHWM so peak_rss_mb() measures one run (Linux clear_refs "5").
 void reset_peak_rss() {
@@ -48,6 +59,7 @@ nlohmann::json row(const std::string& part, const std::string& mesh, const Soup&
           {"seconds_checks", r.seconds_checks},
           {"peak_rss_mb", peak_rss_mb()},
           {"surface_cells", r.surface_cells},
+          {"pruned_cells", r.pruned_cells},
           {"distance_evaluations", r.distance_evaluations},
           {"raw_triangles", r.raw_triangles},
           {"collapsed_triangles", r.collapsed_triangles},
@@ -111,7 +123,7 @@ void soups(bool quick) {
   }
 }
 
-void scaling(bool quick, std::vector<int> resolutions) {
+void scaling(bool quick, std::vector<int> resolutions, bool prune) {
   Soup soup = shapes::to_soup(shapes::sphere_with(1.0, quick ? 10000 : 100000), 1e-3, 1);
   // The surface area is fixed, so surface cells grow with resolution^2.
   if (resolutions.empty())
@@ -124,9 +136,13 @@ void scaling(bool quick, std::vector<int> resolutions) {
     o.resolution = n;
     // Target edge length stays the default (the offset): the proxy needs no
     // more triangles at a finer grid, only a more accurate level set.
+    o.prune_cavities = prune;
     reset_peak_rss();
+    double cpu0 = cpu_seconds();
     auto r = proxy::build_proxy(soup, o);
     auto j = row("scaling", quick ? "sphere_10k_noisy" : "sphere_100k_noisy", soup, r);
+    j["cpu_seconds"] = cpu_seconds() - cpu0;
+    j["prune_cavities"] = prune;
     emit(j);
     res.push_back(n);
     secs.push_back(r.seconds);
@@ -140,9 +156,11 @@ void scaling(bool quick, std::vector<int> resolutions) {
 
 int run_proxy(const Args& args) {
   std::string only;
+  bool prune = true;  // --no-prune: scaling builds the cavity shell too (the old way)
   std::vector<int> resolutions;
   for (const auto& a : args.rest) {
     if (a.rfind("--only=", 0) == 0) only = a.substr(7);
+    if (a == "--no-prune") prune = false;
     if (a.rfind("--resolutions=", 0) == 0) {
       std::stringstream list(a.substr(14));
       for (std::string item; std::getline(list, item, ',');) resolutions.push_back(std::stoi(item));
@@ -151,7 +169,7 @@ int run_proxy(const Args& args) {
   try {
     if (only.empty() || only == "table1") table1(args.quick);
     if (only.empty() || only == "soups") soups(args.quick);
-    if (only.empty() || only == "scaling") scaling(args.quick, resolutions);
+    if (only.empty() || only == "scaling") scaling(args.quick, resolutions, prune);
   } catch (const Error& e) {
     std::cerr << "proxy bench: " << e.what() << "\n";
     return 1;
