@@ -1,4 +1,4 @@
-// build_proxy: offset policy -> narrow band -> marching cubes -> edge collapse ->
+// build_proxy: offset policy -> narrow band (pruned to the outer shell) -> marching cubes -> edge collapse ->
 // drop inner components -> remesh -> Taubin smoothing -> lift to d = o -> measured checks.
 // See soupuv/proxy/proxy.h.
 #include "soupuv/proxy/proxy.h"

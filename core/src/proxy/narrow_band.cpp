@@ -150,7 +150,7 @@ NarrowBand build_narrow_band(const TriangleBvh& bvh, const Box3& box, double off
       band.pruned_cells += prune_cavities(band.dims, level, current, labels, outside, keep, reached);
     // Certainly-outside cells the border reaches matter to finer levels'
     // floods; enclosed ones (cavities) never will.
-    if (outer_only)
+    if (outer_only && level > 0)
       for (size_t n = 0; n < current.size(); ++n)
         if (labels[n] == kOutside && reached[n]) outside.push_back({level, current[n]});
     if (level == 0) {
