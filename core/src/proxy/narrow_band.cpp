@@ -215,14 +215,18 @@ NarrowBand build_narrow_band(const TriangleBvh& bvh, const Box3& box, double off
   }
   // Leaves: the candidates whose corners change sign; the others hold no
   // surface. Their unused corners stay (harmless, and lookups stay simple).
-  std::vector<uint64_t> leaves;
-  for (uint64_t key : current) {
-    auto c = grid_coords(key);
+  std::vector<char> crossing(current.size());
+#pragma omp parallel for schedule(static)
+  for (long n = 0; n < long(current.size()); ++n) {
+    auto c = grid_coords(current[n]);
     int inside = 0;
     for (int v = 0; v < 8; ++v)
       inside += band.value(grid_key(c[0] + (v & 1), c[1] + ((v >> 1) & 1), c[2] + (v >> 2))) < 0;
-    if (inside != 0 && inside != 8) leaves.push_back(key);
+    crossing[n] = inside != 0 && inside != 8;
   }
+  std::vector<uint64_t> leaves;
+  for (size_t n = 0; n < current.size(); ++n)
+    if (crossing[n]) leaves.push_back(current[n]);
   std::sort(leaves.begin(), leaves.end());
   band.cells = std::move(leaves);
   band.distance_evaluations = evaluations + band.corner_keys.size();
