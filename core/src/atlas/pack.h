@@ -19,7 +19,9 @@
 // a few packings into a tall strip, each rescaled by sqrt(square height /
 // height used); then a portfolio of greedy variants (two orders, three values
 // of w, the turned poses) each tries to fit at a larger scale, and the
-// largest scale that fits wins.
+// largest scale that fits wins. Only if that fills less than 70% does a
+// second pass retry the winning variant with the turned poses and a finer
+// scale search.
 #pragma once
 
 #include <array>

@@ -33,9 +33,9 @@ AtlasResult check_atlas(const std::string& name, const TriMesh& mesh, const Atla
   EXPECT_EQ(r.stats.flipped, 0) << name;
   EXPECT_EQ(r.stats.overlap, 0.0) << name;
   EXPECT_LE(r.stats.stretch_l2, 1.10) << name;
-  // Issue 5 asks for 0.70 at 2048 / 4 px; met on every shape here but genus 3
-  // (0.690 there: many small charts around big arch-shaped ones), which
-  // passes a lower guard of its own.
+  // Issue 5 asks for 0.70 at 2048 / 4 px; genus 3 (many small charts around
+  // big arch-shaped ones) only reaches it through the packer's second pass
+  // (measured 0.701).
   EXPECT_GE(r.stats.utilization, min_utilization) << name;
 
   int flipped = 0, outside = 0, bad_chart = 0;
@@ -69,7 +69,7 @@ TEST(BuildAtlas, Cube) {
   EXPECT_LT(r.stats.stretch_l2, 1.0 + 1e-6);
 }
 TEST(BuildAtlas, Cylinder) { check_atlas("cylinder", shapes::cylinder(0.5, 2.0, 48, 16, 6)); }
-TEST(BuildAtlas, GenusThree) { check_atlas("genus 3", test_meshes::fused_tori(3, 12000), {}, 0.685); }
+TEST(BuildAtlas, GenusThree) { check_atlas("genus 3", test_meshes::fused_tori(3, 12000)); }
 TEST(BuildAtlas, DrilledBlock) { check_atlas("drilled block", test_meshes::drilled_block(10000)); }
 TEST(BuildAtlas, TwoComponents) {
   TriMesh a = shapes::sphere_with(1.0, 2000), b = shapes::torus_with(1.0, 0.3, 2000);
