@@ -128,10 +128,13 @@ ChartFixResult fix_chart_boundaries(const Soup& soup, const proxy::ProxyMesh& pr
           cand.uv[j].y = std::clamp(cand.uv[j].y, 0.0, 1.0);
         }
       }
-      // §8's measure, relative to the 3D area; a flipped result costs more
-      // than any disagreement with the neighbours can.
+      // §8's measure as a log ratio of UV area (at the global scale) to 3D
+      // area: a triangle squashed to a tenth costs 2.3, a collapsed one ~14,
+      // so agreeing with the neighbours never buys a degenerate triangle; a
+      // flipped one costs 4 more.
       const double signed_uv = 0.5 * cross(cand.uv[1] - cand.uv[0], cand.uv[2] - cand.uv[0]);
-      cand.cost = area3 > 0 ? std::abs(std::abs(signed_uv) / scale2 - area3) / area3 : 0;
+      const double ratio = area3 > 0 ? std::abs(signed_uv) / scale2 / area3 : 1;
+      cand.cost = std::abs(std::log(std::max(ratio, 1e-6)));
       if (sign * signed_uv < 0) cand.cost += 4;
     }
   }

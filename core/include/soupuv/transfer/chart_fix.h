@@ -10,10 +10,11 @@
 //         map extended to its landing point (within four face sizes), not
 //         the boundary point's own UV: the triangle keeps its shape instead
 //         of being squashed against the seam.
-//         A moved triangle whose UV orientation flips pays a fixed penalty.
+//         The area measure is |log(UV area / 3D area)| (a collapsed candidate
+//         costs ~14); a candidate whose UV orientation flips pays 4 more.
 //         With the soup's near-neighbour graph, the choice also weighs the
-//         neighbours' charts (iterated conditional modes: cost = relative area
-//         error + 1 per neighbour labelled with another chart), so the cut in
+//         neighbours' charts (iterated conditional modes: cost = area measure
+//         + 1 per neighbour labelled with another chart), so the cut in
 //         the texture follows soup edges rather than zig-zagging; without it,
 //         each triangle chooses alone as in the paper.
 // Cost  : one BVH per chart, built once: O(n log n); O(log n) per moved corner.
