@@ -85,20 +85,46 @@ UvMetrics uv_metrics(const Soup& soup, const CornerUvs& uvs,
                                               : (area3 > 0 ? std::sqrt(area_uv / area3) : 0);
   // L2 stretch, normalised by the global scale (Sander et al.: multiply by
   // sqrt(sum A_uv / sum A_3d)) so that any uniformly scaled isometry gives 1.
+  // The map is differentiated from UV onto the surface, so a UV triangle
+  // squeezed towards a segment (converging field lines) costs ~1/width^2:
+  // the figure is dominated by a few such slivers, which the distribution
+  // fields below make visible without changing what is measured.
   double sum_l2 = 0, weight = 0, linf = 0;
   const double scale = area3 > 0 ? std::sqrt(area_uv / area3) : 0;
+  struct Term { double stretch, area, l2_term; };
+  std::vector<Term> terms;
+  terms.reserve(n);
   for (size_t t = 0; t < n; ++t) {
     if (!(a3[t] > 0)) continue;
     double big, small;
     if (!stretch_singular_values(soup.corner(t, 0), soup.corner(t, 1), soup.corner(t, 2), uvs[t],
                                  big, small))
       continue;  // collapsed: already counted as flipped
-    sum_l2 += a3[t] * 0.5 * (big * big + small * small);
+    const double l2_sq = 0.5 * (big * big + small * small);
+    sum_l2 += a3[t] * l2_sq;
     weight += a3[t];
     linf = std::max(linf, big * scale);
+    terms.push_back({std::sqrt(l2_sq) * scale, a3[t], a3[t] * l2_sq});
   }
   m.stretch_l2 = weight > 0 ? std::sqrt(sum_l2 / weight) * scale : 0;
   m.stretch_linf = linf;
+  if (weight > 0) {
+    // Area-weighted median of the per-triangle stretch.
+    std::sort(terms.begin(), terms.end(),
+              [](const Term& x, const Term& y) { return x.stretch < y.stretch; });
+    double below = 0;
+    for (const Term& x : terms) {
+      below += x.area;
+      if (below >= 0.5 * weight) { m.stretch_median = x.stretch; break; }
+    }
+    // Share of the squared L2 sum carried by the worst 1 % of triangles.
+    std::sort(terms.begin(), terms.end(),
+              [](const Term& x, const Term& y) { return x.l2_term > y.l2_term; });
+    const size_t worst = std::max<size_t>(1, terms.size() / 100);
+    double top = 0;
+    for (size_t i = 0; i < worst; ++i) top += terms[i].l2_term;
+    m.stretch_l2_worst1pct_share = sum_l2 > 0 ? top / sum_l2 : 0;
+  }
 
   // Continuity over originally adjacent pairs, and islands of triangles
   // joined by continuous edges.
@@ -158,6 +184,8 @@ nlohmann::json to_json(const UvMetrics& m) {
           {"flipped_fraction", m.flipped_fraction},
           {"stretch_l2", m.stretch_l2},
           {"stretch_linf", m.stretch_linf},
+          {"stretch_median", m.stretch_median},
+          {"stretch_l2_worst1pct_share", m.stretch_l2_worst1pct_share},
           {"adjacent_pairs", m.adjacent_pairs},
           {"continuity", m.continuity},
           {"continuity_1texel", m.continuity_1texel},

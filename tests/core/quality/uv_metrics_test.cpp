@@ -100,6 +100,40 @@ TEST(UvMetrics, AnisotropicScaleIsStretched) {
   EXPECT_NEAR(m.stretch_l2, std::sqrt((6.25 + 1.5625) / 2) * std::sqrt(0.32), 1e-9);
 }
 
+// Hand-computed against Sander et al. 2001: the Jacobian goes from UV onto
+// the surface, weighted by 3D area, times sqrt(sum A_uv / sum A_3d) (the
+// map's own optimal scale, not the atlas's texel scale). Two unit right
+// triangles: one mapped at UV scale 0.4, one squeezed 10x more across.
+// Singular values (UV -> 3D): 2.5, 2.5 and 2.5, 25; UV areas 0.08, 0.008.
+// L2 = sqrt((0.5 * 6.25 + 0.5 * (6.25 + 625) / 2) / 1 * 0.088) = 3.7633...
+// The opposite direction (3D -> UV) would give 1.1697 instead.
+TEST(UvMetrics, StretchIsSanderL2FromUvToSurface) {
+  Soup s;
+  s.positions = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {2, 0, 0}, {3, 0, 0}, {2, 1, 0}};
+  s.triangles = {{0, 1, 2}, {3, 4, 5}};
+  s.origins.resize(2);
+  CornerUvs uv = {{Vec2{0.05, 0.05}, Vec2{0.45, 0.05}, Vec2{0.05, 0.45}},
+                  {Vec2{0.5, 0.05}, Vec2{0.9, 0.05}, Vec2{0.5, 0.09}}};
+  const double expected = std::sqrt((0.5 * 6.25 + 0.5 * 315.625) * 0.088);
+  UvMetrics m = uv_metrics(s, uv, {});
+  EXPECT_NEAR(m.stretch_l2, expected, 1e-9);
+  EXPECT_NEAR(m.stretch_l2, 3.76331, 1e-5);
+  // The atlas's texel scale is for continuity only: the stretch is the same.
+  UvMetricsOptions at_atlas_scale;
+  at_atlas_scale.uv_per_length = 5;
+  EXPECT_NEAR(uv_metrics(s, uv, {}, at_atlas_scale).stretch_l2, expected, 1e-9);
+  // Uniformly rescaling the UVs changes nothing either.
+  CornerUvs half = uv;
+  for (auto& t : half)
+    for (auto& p : t) p = p * 0.5;
+  EXPECT_NEAR(uv_metrics(s, half, {}).stretch_l2, expected, 1e-9);
+  // Companions: the area-weighted median is the good triangle's stretch
+  // 2.5 * sqrt(0.088); the worst triangle (the "worst 1 %") carries
+  // 157.8125 / 160.9375 of the squared sum.
+  EXPECT_NEAR(m.stretch_median, 2.5 * std::sqrt(0.088), 1e-9);
+  EXPECT_NEAR(m.stretch_l2_worst1pct_share, 157.8125 / 160.9375, 1e-9);
+}
+
 TEST(UvMetrics, SeamsFlipsAndOutOfRangeAreCounted) {
   Soup s = grid_soup(8, 0);
   auto adj = metric_adjacency(s, nullptr, 0);

@@ -35,6 +35,12 @@ struct UvMetrics {
   double flipped_fraction = 0;
   double stretch_l2 = 0;        // area-weighted, normalised so 1 = isometric up to scale
   double stretch_linf = 0;      // largest per-triangle singular-value ratio to the scale
+  // Companions to stretch_l2 (which stays the target figure), to read it by:
+  // area-weighted median of the per-triangle stretch (robust to a few UV
+  // slivers), and the share of the squared L2 sum from the worst 1 % of
+  // triangles (near 1: the figure is made by a handful of slivers).
+  double stretch_median = 0;
+  double stretch_l2_worst1pct_share = 0;
   size_t adjacent_pairs = 0;
   double continuity = 0;        // pairs within 1 texel + 2 x (copies' 3D distance) in UV
   double continuity_1texel = 0; // pairs within 1 texel
