@@ -6,7 +6,8 @@
 // Rows: suite, mesh, triangles, method ("field", "field-rerun", "box"),
 // seconds, threads, peak_rss_mb, per-stage seconds, and the uv metrics
 // (coverage, flipped_fraction, stretch_l2, continuity, continuity_1texel,
-// islands). Summary: rerun speedups and field-vs-box ratios per mesh.
+// islands; stretch_median and stretch_l2_worst1pct_share are companions to
+// read stretch_l2 by, not replacements). Summary: rerun speedups and field-vs-box ratios per mesh.
 #include <chrono>
 #include <iostream>
 
@@ -55,8 +56,9 @@ nlohmann::json row(const Input& in, const std::string& method, double seconds, c
                       {"seconds", seconds},
                       {"threads", bench::threads()},
                       {"peak_rss_mb", bench::peak_rss_mb()}};
-  for (const char* k : {"coverage", "flipped_fraction", "stretch_l2", "continuity", "continuity_1texel", "islands"})
-    r[k] = d["uv"][k];
+  for (const char* k : {"coverage", "flipped_fraction", "stretch_l2", "stretch_median",
+                        "stretch_l2_worst1pct_share", "continuity", "continuity_1texel", "islands"})
+    if (d["uv"].contains(k)) r[k] = d["uv"][k];
   nlohmann::json stages = nlohmann::json::object();
   for (auto& [name, s] : d["stages"].items()) stages[name] = s["seconds"];
   r["stages"] = stages;
