@@ -6,7 +6,8 @@
 // max_rel_potential_error is the true, re-evaluated deviation. Flags:
 // --max-triangles N (cap Table 4), --rh-seconds S (robin hood time cap),
 // --tables 3,4 (which tables), --sizes 800,12800 (Table 4 sizes),
-// --methods krylov,robin-hood,robin-hood-direct-init,dense-lu.
+// --methods krylov,robin-hood,robin-hood-direct-init,dense-lu, --threads T
+// (Krylov thread count; default 0: one thread below krylov_parallel_min).
 #include <cstdio>
 #include <ctime>
 #include <string>
@@ -88,6 +89,7 @@ int run_charge(const bench::Args& args) {
     if (args.rest[i] == "--theta") krylov_base.fmm_theta = std::stod(args.rest[i + 1]);
     if (args.rest[i] == "--verify-direct-max") krylov_base.verify_direct_max = std::stoul(args.rest[i + 1]);
     if (args.rest[i] == "--methods") methods = args.rest[i + 1];
+    if (args.rest[i] == "--threads") krylov_base.threads = std::stoi(args.rest[i + 1]);
     if (args.rest[i] == "--sizes") {
       sizes.clear();
       for (const std::string& t : split(args.rest[i + 1])) sizes.push_back(std::stoi(t));

@@ -33,13 +33,15 @@ void solve_krylov(const SourceGeometry& src, const ChargeOptions& o, Progress& p
   FmmOptions fo;
   fo.order = o.fmm_order;
   fo.theta = o.fmm_theta;
-  fo.threads = o.threads;
+  const int threads =
+      o.threads > 0 ? o.threads : (n < o.krylov_parallel_min ? 1 : omp_get_max_threads());
+  fo.threads = threads;
   fo.leaf_size = o.krylov_leaf_size;
   const int cheap_order = std::min(o.krylov_inner_order, o.fmm_order);
   CollocationOperator A(src, fo, cheap_order < o.fmm_order ? cheap_order : 0);
   const auto cheap = cheap_order < o.fmm_order ? CollocationOperator::Accuracy::cheap
                                                : CollocationOperator::Accuracy::full;
-  LeafBlockPreconditioner M(src, A.fmm().source_blocks(o.krylov_block_size), o.threads);
+  LeafBlockPreconditioner M(src, A.fmm().source_blocks(o.krylov_block_size), threads);
   r.setup_seconds = elapsed();
   r.near_entries = A.near_entries();
   r.solver = "krylov";

@@ -84,7 +84,9 @@ LeafBlockPreconditioner::LeafBlockPreconditioner(const SourceGeometry& sources,
 
 void LeafBlockPreconditioner::apply(const std::vector<double>& r, std::vector<double>& z) const {
   z.resize(r.size());
-#pragma omp parallel for num_threads(threads_) schedule(dynamic, 16)
+  // One block per chunk: a few dozen blocks of ~128 at small sizes would
+  // otherwise split unevenly over the threads.
+#pragma omp parallel for num_threads(threads_) schedule(dynamic, 1)
   for (long b = 0; b < static_cast<long>(blocks_.size()); ++b) {
     const auto& idx = blocks_[b];
     Eigen::VectorXd v(idx.size());

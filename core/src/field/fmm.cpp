@@ -220,7 +220,9 @@ void Fmm::set_charges(const std::vector<double>& charges) {
   M_.assign(scells_.size() * ncoef_, 0.0);
   for (int level = static_cast<int>(slevels_.size()) - 1; level >= 0; --level) {
     const auto& cells = slevels_[level];
-#pragma omp parallel for num_threads(nth) schedule(dynamic, 4)
+    // A fork/join per level: not worth it for the few cells near the root
+    // (on a loaded machine each join waits for a descheduled thread).
+#pragma omp parallel for num_threads(nth) schedule(dynamic, 4) if (cells.size() >= 16)
     for (long i = 0; i < static_cast<long>(cells.size()); ++i) {
       const SourceCell& c = scells_[cells[i]];
       double* M = &M_[static_cast<size_t>(cells[i]) * ncoef_];
@@ -247,7 +249,7 @@ void Fmm::set_charges(const std::vector<double>& charges) {
   t0 = Clock::now();
   for (size_t level = 1; level < tlevels_.size(); ++level) {
     const auto& cells = tlevels_[level];
-#pragma omp parallel for num_threads(nth) schedule(static)
+#pragma omp parallel for num_threads(nth) schedule(static) if (cells.size() >= 256)
     for (long i = 0; i < static_cast<long>(cells.size()); ++i) {
       const TargetCell& c = tcells_[cells[i]];
       basis_.l2l(&L_[static_cast<size_t>(c.parent) * ncoef_], c.center - tcells_[c.parent].center,

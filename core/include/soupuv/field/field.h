@@ -36,6 +36,12 @@ struct ChargeOptions {
   int fmm_order = 0;
   double fmm_theta = 0.5;           // multipole acceptance: (r_a + r_b) < theta * distance
   int threads = 0;                  // 0: OpenMP default
+  // With threads = 0, the Krylov solve runs on one thread below this many
+  // triangles: its mat-vec is then a few ms split into ~6 fork/joins, and on
+  // a loaded 2-core machine each join waits for a descheduled or spinning
+  // thread (measured, n = 1,088 sphere: solve 0.18 s on 1 thread vs 0.36 s
+  // on 2, CPU likewise; at 12,800 two threads win, 1.8 s vs 3.0 s wall).
+  size_t krylov_parallel_min = 8000;
   // Triangles with area > refine_area_ratio * median area are split (midpoint
   // subdivision) until they are not; 0 disables refinement.
   double refine_area_ratio = 16.0;
