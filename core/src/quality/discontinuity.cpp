@@ -1,5 +1,6 @@
 #include "soupuv/quality/discontinuity.h"
 
+#include <algorithm>
 #include <cmath>
 
 namespace soupuv::quality {
@@ -17,7 +18,17 @@ nlohmann::json DiscontinuityBreakdown::to_json() const {
           {"one_chart_triangles", one_chart_triangles},
           {"stretch_l2_one_chart", stretch_l2_one_chart},
           {"stretch_l2_other", stretch_l2_other},
-          {"stretch_l2_unflipped", stretch_l2_unflipped}};
+          {"stretch_l2_unflipped", stretch_l2_unflipped},
+          {"worst_stretch",
+           {{"triangles", worst_stretch_triangles},
+            {"missed", worst_stretch_missed},
+            {"split_charts", worst_stretch_split},
+            {"chart_correction", worst_stretch_corrected},
+            {"one_chart", worst_stretch_one_chart},
+            {"share_missed", worst_stretch_share_missed},
+            {"share_split_charts", worst_stretch_share_split},
+            {"share_chart_correction", worst_stretch_share_corrected},
+            {"share_one_chart", worst_stretch_share_one_chart}}}};
 }
 
 DiscontinuityBreakdown discontinuity_breakdown(const Soup& soup, const CornerUvs& uvs,
@@ -74,6 +85,38 @@ DiscontinuityBreakdown discontinuity_breakdown(const Soup& soup, const CornerUvs
   b.stretch_l2_one_chart = stretch_l2_subset(soup, uvs, one_chart, scale);
   b.stretch_l2_other = stretch_l2_subset(soup, uvs, other, scale);
   b.stretch_l2_unflipped = stretch_l2_subset(soup, uvs, unflipped, scale);
+
+  // The worst 1 % of the squared L2 sum, by cause.
+  std::vector<std::pair<double, uint32_t>> terms;
+  double sum = 0;
+  for (size_t t = 0; t < uvs.size(); ++t) {
+    const double a = triangle_area(soup, t);
+    double big, small;
+    if (!(a > 0) || !stretch_singular_values(soup.corner(t, 0), soup.corner(t, 1),
+                                             soup.corner(t, 2), uvs[t], big, small))
+      continue;
+    terms.push_back({a * 0.5 * (big * big + small * small), uint32_t(t)});
+    sum += terms.back().first;
+  }
+  const size_t worst = terms.empty() ? 0 : std::max<size_t>(1, terms.size() / 100);
+  std::partial_sort(terms.begin(), terms.begin() + worst, terms.end(),
+                    [](const auto& x, const auto& y) { return x.first > y.first; });
+  b.worst_stretch_triangles = worst;
+  for (size_t i = 0; i < worst; ++i) {
+    const size_t t = terms[i].second;
+    bool missed = false, split = false, corrected = false;
+    for (int k = 0; k < 3; ++k) {
+      const size_t c = 3 * t + k;
+      missed |= landing.missed[c] != 0;
+      split |= landing.first_chart[c] != landing.first_chart[3 * t];
+      corrected |= landing.final_chart[c] != landing.first_chart[c];
+    }
+    const double share = sum > 0 ? terms[i].first / sum : 0;
+    if (missed) { ++b.worst_stretch_missed; b.worst_stretch_share_missed += share; }
+    else if (split) { ++b.worst_stretch_split; b.worst_stretch_share_split += share; }
+    else if (corrected) { ++b.worst_stretch_corrected; b.worst_stretch_share_corrected += share; }
+    else { ++b.worst_stretch_one_chart; b.worst_stretch_share_one_chart += share; }
+  }
   return b;
 }
 

@@ -18,8 +18,18 @@ bool usable(Vec2 p) {
   return std::isfinite(p.x) && std::isfinite(p.y) && p.x >= 0 && p.x <= 1 && p.y >= 0 && p.y <= 1;
 }
 
-// Singular values (largest, smallest) of the map from the triangle's UV
-// domain onto its 3D triangle: Sander et al.'s Gamma and gamma.
+struct UnionFind {
+  std::vector<uint32_t> parent;
+  explicit UnionFind(size_t n) : parent(n) { std::iota(parent.begin(), parent.end(), 0u); }
+  uint32_t find(uint32_t x) {
+    while (parent[x] != x) x = parent[x] = parent[parent[x]];
+    return x;
+  }
+  void unite(uint32_t a, uint32_t b) { parent[find(a)] = find(b); }
+};
+
+}  // namespace
+
 bool stretch_singular_values(Vec3 p0, Vec3 p1, Vec3 p2, const std::array<Vec2, 3>& uv,
                              double& big, double& small) {
   double area2 = cross(uv[1] - uv[0], uv[2] - uv[0]);  // 2 * signed UV area
@@ -34,18 +44,6 @@ bool stretch_singular_values(Vec3 p0, Vec3 p1, Vec3 p2, const std::array<Vec2, 3
   small = std::sqrt(std::max(0.0, 0.5 * (a + c - root)));
   return std::isfinite(big) && std::isfinite(small);
 }
-
-struct UnionFind {
-  std::vector<uint32_t> parent;
-  explicit UnionFind(size_t n) : parent(n) { std::iota(parent.begin(), parent.end(), 0u); }
-  uint32_t find(uint32_t x) {
-    while (parent[x] != x) x = parent[x] = parent[parent[x]];
-    return x;
-  }
-  void unite(uint32_t a, uint32_t b) { parent[find(a)] = find(b); }
-};
-
-}  // namespace
 
 UvMetrics uv_metrics(const Soup& soup, const CornerUvs& uvs,
                      const std::vector<AdjacentPair>& adjacency, const UvMetricsOptions& options) {

@@ -62,3 +62,29 @@ TEST(Discontinuity, EveryCutPairGetsOneCause) {
   EXPECT_EQ(b.corrected, 0u);
   EXPECT_EQ(b.flipped, m.flipped);
 }
+
+// A UV sliver carries the squared L2 stretch sum; the worst-1 % breakdown puts
+// it down to what its corners saw, and its share agrees with uv_metrics'.
+TEST(Discontinuity, WorstStretchTrianglesGetACause) {
+  Soup s = strip();
+  const size_t n = s.triangles.size();
+  CornerUvs uv(n);
+  for (size_t t = 0; t < n; ++t)
+    for (int k = 0; k < 3; ++k) uv[t][k] = {0.1 + 0.1 * s.corner(t, k).x, 0.1 + 0.1 * s.corner(t, k).y};
+  uv[6][2].y = 0.101;  // triangle 6's third corner nearly onto its first edge
+  auto pairs = edge_adjacency(weld_corners(s, 0.0), n);
+  CornerLanding land;
+  land.missed.assign(3 * n, 0);
+  land.first_chart.assign(3 * n, 0);
+  land.final_chart.assign(3 * n, 0);
+  UvMetrics m = uv_metrics(s, uv, pairs);
+  DiscontinuityBreakdown b = discontinuity_breakdown(s, uv, pairs, land, 1024, m.uv_per_length);
+  ASSERT_EQ(b.worst_stretch_triangles, 1u);  // 1 % of 8, at least one
+  EXPECT_EQ(b.worst_stretch_one_chart, 1u);
+  EXPECT_NEAR(b.worst_stretch_share_one_chart, m.stretch_l2_worst1pct_share, 1e-12);
+  EXPECT_GT(b.worst_stretch_share_one_chart, 0.9);
+  land.final_chart[3 * 6 + 2] = 1;  // §8 moved the sliver's corner
+  b = discontinuity_breakdown(s, uv, pairs, land, 1024, m.uv_per_length);
+  EXPECT_EQ(b.worst_stretch_corrected, 1u);
+  EXPECT_EQ(b.worst_stretch_one_chart, 0u);
+}

@@ -41,6 +41,16 @@ struct DiscontinuityBreakdown {
   double stretch_l2_one_chart = 0, stretch_l2_other = 0;
   double stretch_l2_unflipped = 0;  // without the flipped triangles
   size_t one_chart_triangles = 0;
+  // The worst 1 % of triangles by their term in the squared L2 stretch sum,
+  // by what their corners saw (first match wins): a line missed, corners
+  // first landed on different charts, §8 moved a corner, or none of these
+  // (one chart throughout: the lines themselves converged); and the share
+  // of the squared sum each group carries.
+  size_t worst_stretch_triangles = 0;
+  size_t worst_stretch_missed = 0, worst_stretch_split = 0, worst_stretch_corrected = 0,
+         worst_stretch_one_chart = 0;
+  double worst_stretch_share_missed = 0, worst_stretch_share_split = 0,
+         worst_stretch_share_corrected = 0, worst_stretch_share_one_chart = 0;
   nlohmann::json to_json() const;
 };
 
