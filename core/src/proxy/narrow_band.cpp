@@ -118,6 +118,31 @@ NarrowBand build_narrow_band(const TriangleBvh& bvh, const Box3& box, double off
   // share their closest triangle, so the search starts with a tight bound.
   std::vector<uint32_t> hint(current.size(), UINT32_MAX);
 
+  // Cell c's box and center at a level of cells of `size`.
+  auto box_of = [&](uint64_t key, double size) {
+    auto c = grid_coords(key);
+    Box3 b;
+    b.lo = band.origin + Vec3{c[0] * size, c[1] * size, c[2] * size};
+    b.hi = band.origin + Vec3{(c[0] + 1) * size, (c[1] + 1) * size, (c[2] + 1) * size};
+    return b;
+  };
+  auto center_of = [&](uint64_t key, double size) { return box_of(key, size).center(); };
+  // The level-1 cells kept, as the parents of the level-0 candidates
+  // (contiguous children [begin, end)): any point p of the parent's box has
+  // d(p) <= d(center) + half-diagonal, so its closest triangle lies within
+  // that radius of the box and is in the parent's gathered list.
+  struct Parent {
+    Box3 box;
+    double radius;
+    size_t begin, end;
+  };
+  std::vector<Parent> groups;
+  // A query answering "hi" for every distance >= hi needs no triangle farther
+  // than hi from the box: if the closest one is, every point's answer is hi.
+  auto capped = [](double radius, double hi) { return std::min(radius, hi * (1 + 1e-9)); };
+  std::vector<uint32_t> group_of;  // per current cell, at level 0
+  std::vector<double> distances;   // per current cell: d(center), exact when kept
+
   size_t evaluations = 0;
   std::vector<OutsideCell> outside;  // certainly-outside cells of coarser levels
   // Refine down to cells of size h by the Lipschitz test on their centers
@@ -130,17 +155,35 @@ NarrowBand build_narrow_band(const TriangleBvh& bvh, const Box3& box, double off
     double half_diagonal = 0.5 * std::sqrt(3.0) * size * (1 + 1e-9);
     std::vector<char> keep(current.size());
     std::vector<uint8_t> labels(current.size());
+    distances.assign(current.size(), 0.0);
     // A cell can hold the level set only if |d(center) - o| <= half-diagonal.
+    // distance() answers exactly inside (lo, hi), below lo or == hi outside
+    // it, so the test must be strict at both ends.
+    const double lo = offset - half_diagonal, hi = offset + half_diagonal;
+    auto decide = [&](long n, double d) {
+      distances[size_t(n)] = d;
+      keep[size_t(n)] = d > lo && d < hi;
+      labels[size_t(n)] = keep[size_t(n)] ? kBand : d >= hi ? kOutside : kInside;
+    };
+    if (level == 0 && !groups.empty()) {
+      // Level 0 by parent: one candidate list per level-1 cell serves its
+      // eight children (nearest-candidate culling instead of a BVH descent
+      // from the root for every center).
+#pragma omp parallel
+      {
+        std::vector<uint32_t> list;
+#pragma omp for schedule(dynamic, 16)
+        for (long g = 0; g < long(groups.size()); ++g) {
+          list.clear();
+          bvh.gather(groups[size_t(g)].box, capped(groups[size_t(g)].radius, hi), list);
+          for (size_t n = groups[size_t(g)].begin; n < groups[size_t(g)].end; ++n)
+            decide(long(n), bvh.distance_among(center_of(current[n], size), list, lo, hi, &hint[n]));
+        }
+      }
+    } else {
 #pragma omp parallel for schedule(dynamic, 256)
-    for (long n = 0; n < long(current.size()); ++n) {
-      auto c = grid_coords(current[n]);
-      Vec3 center = band.origin + Vec3{(c[0] + 0.5) * size, (c[1] + 0.5) * size, (c[2] + 0.5) * size};
-      // distance() answers exactly inside (lo, hi), below lo or == hi outside
-      // it, so the test must be strict at both ends.
-      double lo = offset - half_diagonal, hi = offset + half_diagonal;
-      double d = bvh.distance(center, lo, hi, &hint[n]);
-      keep[n] = d > lo && d < hi;
-      labels[n] = keep[n] ? kBand : d >= hi ? kOutside : kInside;
+      for (long n = 0; n < long(current.size()); ++n)
+        decide(n, bvh.distance(center_of(current[n], size), lo, hi, &hint[n]));
     }
     evaluations += current.size();
     const int64_t cells_at_level = int64_t((band.dims[0] >> level) + 1) * ((band.dims[1] >> level) + 1) *
@@ -158,16 +201,25 @@ NarrowBand build_narrow_band(const TriangleBvh& bvh, const Box3& box, double off
       for (size_t n = 0; n < current.size(); ++n)
         if (keep[n]) {
           current[kept] = current[n];
+          if (!group_of.empty()) group_of[kept] = group_of[n];
           hint[kept++] = hint[n];
         }
       current.resize(kept);
       hint.resize(kept);
+      if (!group_of.empty()) group_of.resize(kept);
       break;
     }
     std::vector<uint64_t> next;
     std::vector<uint32_t> next_hint;
+    const bool parents = level == 1;
+    if (parents) {
+      groups.clear();
+      group_of.clear();
+    }
     for (size_t n = 0; n < current.size(); ++n) {
       if (!keep[n]) continue;
+      if (parents)
+        groups.push_back({box_of(current[n], size), (distances[n] + half_diagonal) * (1 + 1e-7), next.size(), 0});
       auto c = grid_coords(current[n]);
       for (int dz = 0; dz < 2; ++dz)
         for (int dy = 0; dy < 2; ++dy)
@@ -179,8 +231,10 @@ NarrowBand build_narrow_band(const TriangleBvh& bvh, const Box3& box, double off
             {
               next.push_back(grid_key(i, j, k));
               next_hint.push_back(hint[n]);
+              if (parents) group_of.push_back(uint32_t(groups.size() - 1));
             }
           }
+      if (parents) groups.back().end = next.size();
     }
     current.swap(next);
     hint.swap(next_hint);
@@ -190,28 +244,63 @@ NarrowBand build_narrow_band(const TriangleBvh& bvh, const Box3& box, double off
   // corner of a cell the level set crosses is within sqrt(3) h of it, so a
   // band query of o +- 1.75 h gives exact values wherever they are used
   // (1-Lipschitz); values outside the band only need their sign.
-  std::vector<std::pair<uint64_t, uint32_t>> corners;
+  struct Corner {
+    uint64_t key;
+    uint32_t hint;
+    uint32_t group;  // a parent whose box holds the corner (grouped mode)
+  };
+  std::vector<Corner> corners;
   corners.reserve(current.size() * 8);
+  const bool grouped = !groups.empty();
   for (size_t n = 0; n < current.size(); ++n) {
     auto c = grid_coords(current[n]);
     for (int v = 0; v < 8; ++v)
-      corners.push_back({grid_key(c[0] + (v & 1), c[1] + ((v >> 1) & 1), c[2] + (v >> 2)), hint[n]});
+      corners.push_back({grid_key(c[0] + (v & 1), c[1] + ((v >> 1) & 1), c[2] + (v >> 2)), hint[n],
+                         grouped ? group_of[n] : 0});
   }
-  std::sort(corners.begin(), corners.end());
+  std::sort(corners.begin(), corners.end(), [](const Corner& a, const Corner& b) { return a.key < b.key; });
   corners.erase(std::unique(corners.begin(), corners.end(),
-                            [](const auto& a, const auto& b) { return a.first == b.first; }),
+                            [](const Corner& a, const Corner& b) { return a.key == b.key; }),
                 corners.end());
   band.corner_keys.resize(corners.size());
-  for (size_t n = 0; n < corners.size(); ++n) band.corner_keys[n] = corners[n].first;
+  for (size_t n = 0; n < corners.size(); ++n) band.corner_keys[n] = corners[n].key;
   band.corner_values.resize(band.corner_keys.size());
   progress.update("proxy: narrow band", double(levels) / (levels + 1));
   const double band_width = 1.75 * cell;  // > sqrt(3) h
+  const double corner_lo = offset - band_width, corner_hi = offset + band_width;
+  if (grouped) {
+    // Corners by parent (counting sort), one gathered list per parent.
+    std::vector<size_t> start(groups.size() + 1, 0);
+    for (const Corner& c : corners) ++start[c.group + 1];
+    for (size_t g = 0; g < groups.size(); ++g) start[g + 1] += start[g];
+    std::vector<uint32_t> order(corners.size());
+    {
+      std::vector<size_t> fill(start.begin(), start.end() - 1);
+      for (size_t n = 0; n < corners.size(); ++n) order[fill[corners[n].group]++] = uint32_t(n);
+    }
+#pragma omp parallel
+    {
+      std::vector<uint32_t> list;
+#pragma omp for schedule(dynamic, 16)
+      for (long g = 0; g < long(groups.size()); ++g) {
+        if (start[size_t(g)] == start[size_t(g) + 1]) continue;
+        list.clear();
+        bvh.gather(groups[size_t(g)].box, capped(groups[size_t(g)].radius, corner_hi), list);
+        for (size_t m = start[size_t(g)]; m < start[size_t(g) + 1]; ++m) {
+          uint32_t n = order[m];
+          uint32_t warm = corners[n].hint;
+          double d = bvh.distance_among(band.corner_position(corners[n].key), list, corner_lo, corner_hi, &warm);
+          band.corner_values[n] = d - offset;
+        }
+      }
+    }
+  } else {
 #pragma omp parallel for schedule(dynamic, 1024)
-  for (long n = 0; n < long(corners.size()); ++n) {
-    uint32_t warm = corners[n].second;
-    double d = bvh.distance(band.corner_position(corners[n].first), offset - band_width,
-                            offset + band_width, &warm);
-    band.corner_values[n] = d - offset;
+    for (long n = 0; n < long(corners.size()); ++n) {
+      uint32_t warm = corners[n].hint;
+      double d = bvh.distance(band.corner_position(corners[n].key), corner_lo, corner_hi, &warm);
+      band.corner_values[n] = d - offset;
+    }
   }
   // Leaves: the candidates whose corners change sign; the others hold no
   // surface. Their unused corners stay (harmless, and lookups stay simple).

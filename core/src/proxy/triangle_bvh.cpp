@@ -54,6 +54,13 @@ double box_distance2(const Box3& box, Vec3 p) {
   return ex * ex + ey * ey + ez * ez;
 }
 
+double box_box_distance2(const Box3& a, const Box3& b) {
+  double ex = std::max(std::max(a.lo.x - b.hi.x, b.lo.x - a.hi.x), 0.0);
+  double ey = std::max(std::max(a.lo.y - b.hi.y, b.lo.y - a.hi.y), 0.0);
+  double ez = std::max(std::max(a.lo.z - b.hi.z, b.lo.z - a.hi.z), 0.0);
+  return ex * ex + ey * ey + ez * ez;
+}
+
 // Slab test; true when the ray p + t*dir (t >= 0) meets the box.
 bool ray_hits_box(const Box3& box, Vec3 p, Vec3 inv_dir) {
   double t0 = 0, t1 = INFINITY;
@@ -100,6 +107,60 @@ void TriangleBvh::build() {
   if (tris_.empty()) return;
   nodes_.reserve(2 * tris_.size() / kLeafSize + 2);
   build_node(0, static_cast<uint32_t>(tris_.size()), 0);
+  tri_boxes_.resize(tris_.size());
+  for (size_t i = 0; i < tris_.size(); ++i)
+    for (const Vec3& v : tris_[i]) tri_boxes_[i].add(v);
+}
+
+void TriangleBvh::gather(const Box3& box, double radius, std::vector<uint32_t>& out) const {
+  if (nodes_.empty()) return;
+  double r2 = radius * radius;
+  uint32_t stack[128];
+  int top = 0;
+  stack[top++] = 0;
+  while (top > 0) {
+    const Node& node = nodes_[stack[--top]];
+    if (box_box_distance2(node.box, box) > r2) continue;
+    if (node.count > 0) {
+      for (uint32_t i = node.first; i < node.first + node.count; ++i)
+        if (box_box_distance2(tri_boxes_[i], box) <= r2) out.push_back(i);
+      continue;
+    }
+    stack[top++] = node.first;
+    stack[top++] = static_cast<uint32_t>(&node - nodes_.data()) + 1;
+  }
+}
+
+double TriangleBvh::distance_among(Vec3 p, const std::vector<uint32_t>& ids, double lo, double hi,
+                                   uint32_t* nearest) const {
+  double best2 = hi * hi;
+  double lo2 = lo > 0 ? lo * lo : -1.0;
+  uint32_t best = nearest ? *nearest : UINT32_MAX;
+  auto done = [&](double result) {
+    if (nearest && best < tris_.size()) *nearest = best;
+    return result;
+  };
+  if (best < tris_.size()) {
+    const auto& t = tris_[best];
+    double d2 = point_triangle_distance2(p, t[0], t[1], t[2]);
+    if (d2 < best2) {
+      best2 = d2;
+      if (best2 < lo2) return done(std::sqrt(best2));
+    } else {
+      best = UINT32_MAX;
+    }
+  }
+  for (uint32_t i : ids) {
+    if (box_distance2(tri_boxes_[i], p) >= best2) continue;
+    const auto& t = tris_[i];
+    double d2 = point_triangle_distance2(p, t[0], t[1], t[2]);
+    if (d2 < best2) {
+      best2 = d2;
+      best = i;
+      if (best2 < lo2) return done(std::sqrt(best2));
+    }
+  }
+  return done(best2 < hi * hi ? std::sqrt(best2) : hi);
 }
 
 uint32_t TriangleBvh::build_node(uint32_t first, uint32_t count, int depth) {

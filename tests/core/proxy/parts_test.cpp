@@ -76,6 +76,41 @@ TEST(ProxyParts, BvhDistanceMatchesBruteForce) {
   }
 }
 
+// Nearest-candidate culling: a box's gathered list with radius d(center) +
+// half-diagonal holds the closest triangle of every point in the box, so the
+// restricted distance equals brute force there (band semantics included).
+TEST(ProxyParts, GatheredCandidatesGiveExactDistancesInTheirBox) {
+  Soup soup = shapes::to_soup(shapes::torus(1.0, 0.3, 24, 12), 0.01, 3);
+  TriangleBvh bvh(soup);
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<double> u(-1.6, 1.6), s(0.01, 0.4), t(0.0, 1.0);
+  size_t total = 0;
+  for (int b = 0; b < 60; ++b) {
+    Vec3 c{u(rng), u(rng), u(rng) * 0.5};
+    double half = s(rng);
+    Box3 box{c - Vec3{half, half, half}, c + Vec3{half, half, half}};
+    std::vector<uint32_t> list;
+    bvh.gather(box, bvh.distance(c) + std::sqrt(3.0) * half, list);
+    total += list.size();
+    EXPECT_LT(list.size(), bvh.size());
+    for (int i = 0; i < 20; ++i) {
+      // Corners of the box included: the narrow band evaluates them.
+      Vec3 p = i < 8 ? Vec3{i & 1 ? box.hi.x : box.lo.x, i & 2 ? box.hi.y : box.lo.y, i & 4 ? box.hi.z : box.lo.z}
+                     : box.lo + Vec3{t(rng) * 2 * half, t(rng) * 2 * half, t(rng) * 2 * half};
+      double exact = brute_distance(soup, p);
+      EXPECT_NEAR(bvh.distance_among(p, list), exact, 1e-12);
+      double lo = exact - 0.05, hi = exact + 0.05;
+      uint32_t warm = uint32_t(rng() % (bvh.size() + 5));
+      EXPECT_NEAR(bvh.distance_among(p, list, lo, hi, &warm), exact, 1e-12);
+      EXPECT_LT(bvh.distance_among(p, list, exact + 0.01, exact + 0.1), exact + 0.01);
+      if (exact > 0.02) {
+        EXPECT_EQ(bvh.distance_among(p, list, 0, exact - 0.01), exact - 0.01);
+      }
+    }
+  }
+  EXPECT_GT(total, 0u);
+}
+
 TEST(ProxyParts, BvhContainsMatchesWindingNumber) {
   TriMesh torus = shapes::torus(1.0, 0.4, 32, 16);
   TriangleBvh bvh(torus);

@@ -44,6 +44,18 @@ class TriangleBvh {
   // triangle found (unchanged when none is closer than hi).
   double distance(Vec3 p, double lo = 0, double hi = INFINITY, uint32_t* nearest = nullptr) const;
 
+  // Appends to `out` the ids of every triangle whose bounding box lies within
+  // `radius` of `box` (a superset of the triangles within `radius` of it).
+  // With radius >= (distance from the box center to the soup) + half the box
+  // diagonal, the list holds the closest triangle of every point of the box,
+  // so distance_among over it is exact there (nearest-candidate culling).
+  void gather(const Box3& box, double radius, std::vector<uint32_t>& out) const;
+
+  // distance() restricted to the triangles `ids` (from gather), same answer
+  // semantics; exact for points whose closest triangle is among them.
+  double distance_among(Vec3 p, const std::vector<uint32_t>& ids, double lo = 0, double hi = INFINITY,
+                        uint32_t* nearest = nullptr) const;
+
   // Parity of the crossings of the ray p + t*dir, t > 0, with the triangles.
   // `uncertain` when the ray grazes an edge or vertex (try another direction).
   RayParity ray_parity(Vec3 p, Vec3 dir) const;
@@ -63,6 +75,7 @@ class TriangleBvh {
 
   std::vector<std::array<Vec3, 3>> tris_;
   std::vector<Node> nodes_;
+  std::vector<Box3> tri_boxes_;  // per triangle, in tris_ order (cheap lower bounds)
 };
 
 }  // namespace soupuv::proxy
