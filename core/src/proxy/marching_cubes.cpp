@@ -8,6 +8,7 @@
 
 #include <omp.h>
 
+#include "edge_vertex_weld.h"
 #include "soupuv/errors.h"
 
 namespace soupuv::proxy {
@@ -36,11 +37,6 @@ int local_edge(int a, int b) {
   int lo = std::min(a, b), axis = (a ^ b) == 1 ? 0 : ((a ^ b) == 2 ? 1 : 2);
   return lo * 3 + axis;
 }
-
-struct EdgeVertex {
-  uint64_t key;
-  Vec3 position;
-};
 
 struct CellMesher {
   const NarrowBand& band;
@@ -169,25 +165,7 @@ TriMesh marching_cubes(const NarrowBand& band, Progress& progress) {
       mesher.run(band.cells[n]);
     }
   }
-  // Weld: one vertex per key (positions of equal keys are bit-identical).
-  std::vector<EdgeVertex> all;
-  for (auto& v : vertices) all.insert(all.end(), v.begin(), v.end());
-  vertices.clear();
-  std::sort(all.begin(), all.end(), [](const EdgeVertex& a, const EdgeVertex& b) { return a.key < b.key; });
-  all.erase(std::unique(all.begin(), all.end(),
-                        [](const EdgeVertex& a, const EdgeVertex& b) { return a.key == b.key; }),
-            all.end());
-  TriMesh mesh;
-  mesh.vertices.reserve(all.size());
-  for (const auto& v : all) mesh.vertices.push_back(v.position);
-  auto index_of = [&](uint64_t key) {
-    return int(std::lower_bound(all.begin(), all.end(), key,
-                                [](const EdgeVertex& v, uint64_t k) { return v.key < k; }) -
-               all.begin());
-  };
-  for (auto& list : triangles)
-    for (const auto& t : list) mesh.faces.push_back({index_of(t[0]), index_of(t[1]), index_of(t[2])});
-  return mesh;
+  return weld_edge_vertices(vertices, triangles);
 }
 
 }  // namespace soupuv::proxy

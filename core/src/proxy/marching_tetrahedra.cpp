@@ -8,6 +8,8 @@
 
 #include <omp.h>
 
+#include "edge_vertex_weld.h"
+
 namespace soupuv::proxy {
 namespace {
 
@@ -36,11 +38,6 @@ bool even_permutation(const std::array<int, 4>& p) {
     for (int j = i + 1; j < 4; ++j) inversions += p[i] > p[j];
   return inversions % 2 == 0;
 }
-
-struct EdgeVertex {
-  uint64_t key;
-  Vec3 position;
-};
 
 struct Emitter {
   const NarrowBand& band;
@@ -142,25 +139,7 @@ TriMesh marching_tetrahedra(const NarrowBand& band, Progress& progress) {
       for (const KuhnTet& t : kTets) emit.tet(t);
     }
   }
-  // Weld: one vertex per edge key (positions of equal keys are bit-identical).
-  std::vector<EdgeVertex> all;
-  for (auto& v : vertices) all.insert(all.end(), v.begin(), v.end());
-  vertices.clear();
-  std::sort(all.begin(), all.end(), [](const EdgeVertex& a, const EdgeVertex& b) { return a.key < b.key; });
-  all.erase(std::unique(all.begin(), all.end(),
-                        [](const EdgeVertex& a, const EdgeVertex& b) { return a.key == b.key; }),
-            all.end());
-  TriMesh mesh;
-  mesh.vertices.reserve(all.size());
-  for (const auto& v : all) mesh.vertices.push_back(v.position);
-  auto index_of = [&](uint64_t key) {
-    return int(std::lower_bound(all.begin(), all.end(), key,
-                                [](const EdgeVertex& v, uint64_t k) { return v.key < k; }) -
-               all.begin());
-  };
-  for (auto& list : triangles)
-    for (const auto& t : list) mesh.faces.push_back({index_of(t[0]), index_of(t[1]), index_of(t[2])});
-  return mesh;
+  return weld_edge_vertices(vertices, triangles);
 }
 
 }  // namespace soupuv::proxy

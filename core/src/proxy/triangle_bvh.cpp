@@ -75,6 +75,22 @@ bool ray_hits_box(const Box3& box, Vec3 p, Vec3 inv_dir) {
   return true;
 }
 
+// The caller's guess (`best`, e.g. the closest triangle of a neighbouring
+// query) tightens the search radius before any traversal; a guess that is
+// not closer than `best2` is dropped. True when it is already below lo2.
+bool warm_start(const std::vector<std::array<Vec3, 3>>& tris, Vec3 p, double lo2, double& best2,
+                uint32_t& best) {
+  if (best >= tris.size()) return false;
+  const auto& t = tris[best];
+  double d2 = point_triangle_distance2(p, t[0], t[1], t[2]);
+  if (d2 >= best2) {
+    best = UINT32_MAX;
+    return false;
+  }
+  best2 = d2;
+  return best2 < lo2;
+}
+
 }  // namespace
 
 double point_triangle_distance(Vec3 p, Vec3 a, Vec3 b, Vec3 c) {
@@ -140,16 +156,7 @@ double TriangleBvh::distance_among(Vec3 p, const std::vector<uint32_t>& ids, dou
     if (nearest && best < tris_.size()) *nearest = best;
     return result;
   };
-  if (best < tris_.size()) {
-    const auto& t = tris_[best];
-    double d2 = point_triangle_distance2(p, t[0], t[1], t[2]);
-    if (d2 < best2) {
-      best2 = d2;
-      if (best2 < lo2) return done(std::sqrt(best2));
-    } else {
-      best = UINT32_MAX;
-    }
-  }
+  if (warm_start(tris_, p, lo2, best2, best)) return done(std::sqrt(best2));
   for (uint32_t i : ids) {
     if (box_distance2(tri_boxes_[i], p) >= best2) continue;
     const auto& t = tris_[i];
@@ -202,16 +209,7 @@ double TriangleBvh::distance(Vec3 p, double lo, double hi, uint32_t* nearest) co
     if (nearest && best < tris_.size()) *nearest = best;
     return result;
   };
-  if (best < tris_.size()) {
-    const auto& t = tris_[best];
-    double d2 = point_triangle_distance2(p, t[0], t[1], t[2]);
-    if (d2 < best2) {
-      best2 = d2;
-      if (best2 < lo2) return done(std::sqrt(best2));
-    } else {
-      best = UINT32_MAX;
-    }
-  }
+  if (warm_start(tris_, p, lo2, best2, best)) return done(std::sqrt(best2));
   uint32_t stack[128];
   int top = 0;
   stack[top++] = 0;
