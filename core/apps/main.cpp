@@ -52,7 +52,8 @@ Usage:
       --integrator euler|midpoint
       --solver krylov|robin-hood   charge solver (default krylov)
       --tolerance X          charge solve: max relative potential deviation
-      --threads N            total threads (the two branches share them)
+      --threads N            total threads (the field branch uses all of them,
+                             the proxy branch half while it runs)
       --cache-dir DIR        reuse charges and field lines across runs and
                              processes (content-addressed)
       --seam-hints FILE      JSON [[[x,y,z],...],...]: polylines forced as seams
@@ -60,6 +61,7 @@ Usage:
                              the continuity figure (else corners are welded)
       --debug-prefix P       also write P.proxy.glb (textured proxy),
                              P.lines.glb (field lines), P.uv.png (UV layout)
+      --uv-layout FILE       also write the UV layout as a 1024 px PNG
       --no-refine-intersections  --no-orient  --no-share-lines  --no-chart-fix
       --no-chart-neighbours
 

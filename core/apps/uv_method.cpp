@@ -122,6 +122,8 @@ bool parse_method_flag(const std::vector<std::string>& args, size_t& i, MethodFl
     f.cache_dir = value();
   } else if (a == "--debug-prefix") {
     f.debug_prefix = value();
+  } else if (a == "--uv-layout") {
+    f.uv_layout = value();
   } else if (a == "--original") {
     f.original = value();
   } else if (a == "--seam-hints") {
@@ -168,6 +170,7 @@ MethodRun compute_uvs(const io::Asset& asset, const std::string& method, const M
   run.corner_uvs = std::move(result.corner_uvs);
   run.diagnostics = std::move(result.diagnostics);
 
+  if (!flags.uv_layout.empty()) write_bytes(flags.uv_layout, quality::uv_layout_png(run.corner_uvs, 1024));
   if (!flags.debug_prefix.empty()) {
     const std::string& p = flags.debug_prefix;
     write_bytes(p + ".uv.png", quality::uv_layout_png(run.corner_uvs, 1024));

@@ -23,6 +23,7 @@ struct MethodFlags {
   MapOptions options;
   std::string cache_dir;     // on-disk cache shared between runs and processes
   std::string debug_prefix;  // PREFIX.proxy.glb, PREFIX.lines.glb, PREFIX.uv.png
+  std::string uv_layout;     // PNG of the UV layout alone (the server's /uv-layout.png)
   std::string original;      // continuity reference: welded mesh, same triangle order
   std::string seam_hints;    // JSON file: [[[x,y,z], ...], ...]
 };

@@ -90,6 +90,8 @@ TEST_F(Field, SeamHintsReachTheAtlas) {
   json plain = run({{"resolution", 16}});
   ASSERT_EQ(plain["state"], "succeeded") << plain.dump();
   EXPECT_EQ(diagnostics(plain)["atlas"]["seam_edges"], 0);
+  // The UV layout is served without debug outputs too (soupuv map --uv-layout).
+  EXPECT_TRUE(plain["links"].contains("uv-layout.png")) << plain["links"].dump();
   // A diagonal over the top face of the unit box: the atlas must cut along it.
   json hints = json::array({json::array({{-0.5, 0.5, -0.5}, {0.5, 0.5, 0.5}})});
   json hinted = run({{"resolution", 16}, {"seam_hints", hints}});
