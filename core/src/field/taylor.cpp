@@ -132,14 +132,30 @@ void TaylorBasis::p2m(Vec3 c, const Vec3* x, const double* q, int n, double* M) 
   }
 }
 
-void TaylorBasis::m2m(const double* Mchild, Vec3 d, double* Mparent) const {
-  double wbuf[1024];
-  std::vector<double> big;
-  double* w = wbuf;
-  if (size() > 1024) {
-    big.resize(size());
-    w = big.data();
+namespace {
+// Scratch space for one expansion's monomials: on the stack for the orders we
+// use (no heap allocation per translation), on the heap beyond.
+class MonomialScratch {
+ public:
+  explicit MonomialScratch(int n) {
+    if (n > kStack) {
+      big_.resize(n);
+      data_ = big_.data();
+    }
   }
+  double* data() { return data_; }
+
+ private:
+  static constexpr int kStack = 1024;
+  double stack_[kStack];
+  std::vector<double> big_;
+  double* data_ = stack_;
+};
+}  // namespace
+
+void TaylorBasis::m2m(const double* Mchild, Vec3 d, double* Mparent) const {
+  MonomialScratch scratch(size());
+  double* w = scratch.data();
   monomials(d, p_, w);
   for (const Term& t : shift_) Mparent[t.to] += t.coef * w[t.power] * Mchild[t.from];
 }
@@ -179,13 +195,8 @@ void TaylorBasis::m2l(const double* M, Vec3 R, double* L) const {
 }
 
 void TaylorBasis::l2l(const double* Lparent, Vec3 d, double* Lchild) const {
-  double wbuf[1024];
-  std::vector<double> big;
-  double* w = wbuf;
-  if (size() > 1024) {
-    big.resize(size());
-    w = big.data();
-  }
+  MonomialScratch scratch(size());
+  double* w = scratch.data();
   monomials(d, p_, w);
   // the shift list maps b -> a with a >= b; a local expansion shifts from a down to b
   for (const Term& t : shift_) Lchild[t.from] += t.coef * w[t.power] * Lparent[t.to];

@@ -91,6 +91,18 @@ field::FieldLines merge_lines(const field::FieldLines& base, const field::FieldL
   return out;
 }
 
+// Traces `again` (seeds whose side changed) and puts their lines in place of
+// the old ones in `lines`; the tracing statistics add up in `trace_stats`.
+void retrace(const field::ChargeResult& charges, const std::vector<field::TraceSeed>& again,
+             const field::TraceOptions& trace_options, Progress& progress, nlohmann::json& trace_stats,
+             field::FieldLines& lines) {
+  if (again.empty()) return;
+  field::TraceStats more;
+  field::FieldLines fresh = field::trace_field_lines(charges, again, trace_options, progress, &more);
+  add_stats(trace_stats, more);
+  lines = merge_lines(lines, fresh);
+}
+
 
 // One line per (welded position, component), traced with the |E| rule; then
 // each component's side by an area-weighted vote of its lines, and the lines
@@ -138,12 +150,7 @@ void trace_shared(const Soup& soup, const field::ChargeResult& charges,
       side[g] = want;
     }
   }
-  if (!again.empty()) {
-    field::TraceStats more;
-    field::FieldLines fresh = field::trace_field_lines(charges, again, trace_options, progress, &more);
-    add_stats(r.trace, more);
-    lines = merge_lines(lines, fresh);
-  }
+  retrace(charges, again, trace_options, progress, r.trace, lines);
   r.orient = {{"enabled", options.orient_sides},
               {"shared_lines", true},
               {"components", orientation.components},
@@ -188,12 +195,7 @@ void trace_per_corner(const Soup& soup, const field::ChargeResult& charges,
         again.push_back(s);
       }
     }
-    if (!again.empty()) {
-      field::TraceStats more;
-      field::FieldLines fresh = field::trace_field_lines(charges, again, trace_options, progress, &more);
-      add_stats(r.trace, more);
-      lines = merge_lines(lines, fresh);
-    }
+    retrace(charges, again, trace_options, progress, r.trace, lines);
     r.orient = {{"components", orientation.components},
                 {"flipped_triangles", orientation.flipped_triangles},
                 {"conflicting_edges", orientation.conflicting_edges},
