@@ -104,10 +104,10 @@ struct CellMesher {
     return key;
   }
 
-  void run(uint64_t cell_key) {
+  void run(size_t n) {
+    const uint64_t cell_key = band.cells[n];
     cell = grid_coords(cell_key);
-    for (int v = 0; v < 8; ++v)
-      f[v] = band.value(grid_key(cell[0] + (v & 1), cell[1] + ((v >> 1) & 1), cell[2] + (v >> 2)));
+    f = band.cell_values(n);
     next.fill(-1);
     for (const auto& c : kFaces) face(c);
     int loop_index = 0;
@@ -162,7 +162,7 @@ TriMesh marching_cubes(const NarrowBand& band, Progress& progress) {
 #pragma omp for schedule(dynamic, 512)
     for (long n = 0; n < n_cells; ++n) {
       if (me == 0 && n % 4096 == 0) progress.update("proxy: marching cubes", double(n) / n_cells);
-      mesher.run(band.cells[n]);
+      mesher.run(size_t(n));
     }
   }
   return weld_edge_vertices(vertices, triangles);

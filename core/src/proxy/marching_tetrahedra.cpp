@@ -128,12 +128,9 @@ TriMesh marching_tetrahedra(const NarrowBand& band, Progress& progress) {
       if (me == 0 && n % 4096 == 0)
         progress.update("proxy: marching tetrahedra", double(n) / n_cells);
       auto cell = grid_coords(band.cells[n]);
-      std::array<double, 8> f;
+      std::array<double, 8> f = band.cell_values(size_t(n));
       int inside = 0;
-      for (int v = 0; v < 8; ++v) {
-        f[v] = band.value(grid_key(cell[0] + (v & 1), cell[1] + ((v >> 1) & 1), cell[2] + (v >> 2)));
-        inside += f[v] < 0;
-      }
+      for (int v = 0; v < 8; ++v) inside += f[v] < 0;
       if (inside == 0 || inside == 8) continue;
       Emitter emit{band, cell, f, vertices[me], triangles[me]};
       for (const KuhnTet& t : kTets) emit.tet(t);

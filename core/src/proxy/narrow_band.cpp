@@ -2,11 +2,23 @@
 #include "soupuv/proxy/narrow_band.h"
 
 #include <algorithm>
+#include <bit>
 #include <cmath>
 
 #include "soupuv/errors.h"
 
 namespace soupuv::proxy {
+
+std::array<double, 8> NarrowBand::cell_values(size_t n) const {
+  std::array<double, 8> f;
+  if (cell_corners.size() == cells.size()) {
+    for (int v = 0; v < 8; ++v) f[v] = corner_values[cell_corners[n][v]];
+  } else {
+    auto c = grid_coords(cells[n]);
+    for (int v = 0; v < 8; ++v) f[v] = value(grid_key(c[0] + (v & 1), c[1] + ((v >> 1) & 1), c[2] + (v >> 2)));
+  }
+  return f;
+}
 
 double NarrowBand::value(uint64_t key) const {
   auto it = std::lower_bound(corner_keys.begin(), corner_keys.end(), key);
@@ -103,9 +115,10 @@ NarrowBand build_narrow_band(const TriangleBvh& bvh, const Box3& box, double off
     if (band.dims[a] >= (1 << kGridBits) - 2)
       throw Error(ErrorCode::limit_exceeded, "proxy grid too fine for the offset");
   }
-  // Top level: cells of 2^levels fine cells, about 8 along the longest axis.
+  // Top level: cells of 2^levels fine cells, about 8 along the longest axis;
+  // at least one level above the leaves, whose cells group the leaf corners.
   int longest = std::max({band.dims[0], band.dims[1], band.dims[2]});
-  int levels = 0;
+  int levels = 1;
   while ((longest >> levels) > 8) ++levels;
 
   std::vector<uint64_t> current;
@@ -114,8 +127,8 @@ NarrowBand build_narrow_band(const TriangleBvh& bvh, const Box3& box, double off
     for (int j = 0; j * top < band.dims[1]; ++j)
       for (int i = 0; i * top < band.dims[0]; ++i) current.push_back(grid_key(i, j, k));
   // Closest soup triangle found for each cell's center, handed to its
-  // children as a warm start (TriangleBvh::distance): nearby points mostly
-  // share their closest triangle, so the search starts with a tight bound.
+  // children as a warm start: nearby points mostly share their closest
+  // triangle, so the search starts with a tight bound.
   std::vector<uint32_t> hint(current.size(), UINT32_MAX);
 
   // Cell c's box and center at a level of cells of `size`.
@@ -127,21 +140,21 @@ NarrowBand build_narrow_band(const TriangleBvh& bvh, const Box3& box, double off
     return b;
   };
   auto center_of = [&](uint64_t key, double size) { return box_of(key, size).center(); };
-  // The level-1 cells kept, as the parents of the level-0 candidates
-  // (contiguous children [begin, end)): any point p of the parent's box has
+  // The kept cells of the level above, as the parents of the current cells
+  // (contiguous children [begin, end)): any point p of a parent's box has
   // d(p) <= d(center) + half-diagonal, so its closest triangle lies within
-  // that radius of the box and is in the parent's gathered list.
+  // that radius of the box and is in the parent's gathered candidate list.
   struct Parent {
     Box3 box;
     double radius;
     size_t begin, end;
   };
-  std::vector<Parent> groups;
+  std::vector<Parent> parents;
+  std::vector<uint32_t> parent_of;  // per current cell
   // A query answering "hi" for every distance >= hi needs no triangle farther
   // than hi from the box: if the closest one is, every point's answer is hi.
   auto capped = [](double radius, double hi) { return std::min(radius, hi * (1 + 1e-9)); };
-  std::vector<uint32_t> group_of;  // per current cell, at level 0
-  std::vector<double> distances;   // per current cell: d(center), exact when kept
+  std::vector<double> distances;  // per current cell: d(center), exact when kept
 
   size_t evaluations = 0;
   std::vector<OutsideCell> outside;  // certainly-outside cells of coarser levels
@@ -160,30 +173,30 @@ NarrowBand build_narrow_band(const TriangleBvh& bvh, const Box3& box, double off
     // distance() answers exactly inside (lo, hi), below lo or == hi outside
     // it, so the test must be strict at both ends.
     const double lo = offset - half_diagonal, hi = offset + half_diagonal;
-    auto decide = [&](long n, double d) {
-      distances[size_t(n)] = d;
-      keep[size_t(n)] = d > lo && d < hi;
-      labels[size_t(n)] = keep[size_t(n)] ? kBand : d >= hi ? kOutside : kInside;
+    auto decide = [&](size_t n, double d) {
+      distances[n] = d;
+      keep[n] = d > lo && d < hi;
+      labels[n] = keep[n] ? kBand : d >= hi ? kOutside : kInside;
     };
-    if (level == 0 && !groups.empty()) {
-      // Level 0 by parent: one candidate list per level-1 cell serves its
-      // eight children (nearest-candidate culling instead of a BVH descent
-      // from the root for every center).
+    // Candidate lists pay once a parent's box is small against the offset
+    // (a list holds the triangles within about o of the box); above that a
+    // BVH descent per center is cheaper than scanning a long list.
+    if (!parents.empty() && 2 * size <= 2 * offset) {
 #pragma omp parallel
       {
-        std::vector<uint32_t> list;
+        CandidateList list;
 #pragma omp for schedule(dynamic, 16)
-        for (long g = 0; g < long(groups.size()); ++g) {
-          list.clear();
-          bvh.gather(groups[size_t(g)].box, capped(groups[size_t(g)].radius, hi), list);
-          for (size_t n = groups[size_t(g)].begin; n < groups[size_t(g)].end; ++n)
-            decide(long(n), bvh.distance_among(center_of(current[n], size), list, lo, hi, &hint[n]));
+        for (long g = 0; g < long(parents.size()); ++g) {
+          const Parent& parent = parents[size_t(g)];
+          bvh.gather(parent.box, capped(parent.radius, hi), list);
+          for (size_t n = parent.begin; n < parent.end; ++n)
+            decide(n, bvh.distance_among(center_of(current[n], size), list, lo, hi, &hint[n]));
         }
       }
     } else {
 #pragma omp parallel for schedule(dynamic, 256)
       for (long n = 0; n < long(current.size()); ++n)
-        decide(n, bvh.distance(center_of(current[n], size), lo, hi, &hint[n]));
+        decide(size_t(n), bvh.distance(center_of(current[size_t(n)], size), lo, hi, &hint[size_t(n)]));
     }
     evaluations += current.size();
     const int64_t cells_at_level = int64_t((band.dims[0] >> level) + 1) * ((band.dims[1] >> level) + 1) *
@@ -201,123 +214,153 @@ NarrowBand build_narrow_band(const TriangleBvh& bvh, const Box3& box, double off
       for (size_t n = 0; n < current.size(); ++n)
         if (keep[n]) {
           current[kept] = current[n];
-          if (!group_of.empty()) group_of[kept] = group_of[n];
+          parent_of[kept] = parent_of[n];
           hint[kept++] = hint[n];
         }
       current.resize(kept);
       hint.resize(kept);
-      if (!group_of.empty()) group_of.resize(kept);
+      parent_of.resize(kept);
       break;
     }
     std::vector<uint64_t> next;
-    std::vector<uint32_t> next_hint;
-    const bool parents = level == 1;
-    if (parents) {
-      groups.clear();
-      group_of.clear();
-    }
+    std::vector<uint32_t> next_hint, next_parent;
+    std::vector<Parent> next_parents;
+    const int child_size = 1 << (level - 1);
     for (size_t n = 0; n < current.size(); ++n) {
       if (!keep[n]) continue;
-      if (parents)
-        groups.push_back({box_of(current[n], size), (distances[n] + half_diagonal) * (1 + 1e-7), next.size(), 0});
+      next_parents.push_back({box_of(current[n], size), (distances[n] + half_diagonal) * (1 + 1e-7), next.size(), 0});
       auto c = grid_coords(current[n]);
       for (int dz = 0; dz < 2; ++dz)
         for (int dy = 0; dy < 2; ++dy)
           for (int dx = 0; dx < 2; ++dx) {
             int i = 2 * c[0] + dx, j = 2 * c[1] + dy, k = 2 * c[2] + dz;
-            int child_size = 1 << (level - 1);
-            if (i * child_size < band.dims[0] && j * child_size < band.dims[1] &&
-                k * child_size < band.dims[2])
-            {
+            if (i * child_size < band.dims[0] && j * child_size < band.dims[1] && k * child_size < band.dims[2]) {
               next.push_back(grid_key(i, j, k));
               next_hint.push_back(hint[n]);
-              if (parents) group_of.push_back(uint32_t(groups.size() - 1));
+              next_parent.push_back(uint32_t(next_parents.size() - 1));
             }
           }
-      if (parents) groups.back().end = next.size();
+      next_parents.back().end = next.size();
     }
     current.swap(next);
     hint.swap(next_hint);
+    parent_of.swap(next_parent);
+    parents.swap(next_parents);
   }
 
-  // Corners of the candidate leaves, each with its cell's warm start. A
-  // corner of a cell the level set crosses is within sqrt(3) h of it, so a
-  // band query of o +- 1.75 h gives exact values wherever they are used
-  // (1-Lipschitz); values outside the band only need their sign.
-  struct Corner {
-    uint64_t key;
-    uint32_t hint;
-    uint32_t group;  // a parent whose box holds the corner (grouped mode)
-  };
-  std::vector<Corner> corners;
-  corners.reserve(current.size() * 8);
-  const bool grouped = !groups.empty();
+  // Corners of the candidate leaves. The leaves of one parent (a kept
+  // level-1 cell) have their corners on the parent's 3x3x3 lattice: a bit
+  // mask per parent removes the duplicates inside it, a sort by key those
+  // between parents. Each unique corner is evaluated by the first parent
+  // listing it (its "owner"), with that parent's candidate list.
+  auto lattice_bit = [](int a, int b, int c) { return a + 3 * b + 9 * c; };
+  std::vector<uint32_t> mask(parents.size(), 0);
   for (size_t n = 0; n < current.size(); ++n) {
     auto c = grid_coords(current[n]);
-    for (int v = 0; v < 8; ++v)
-      corners.push_back({grid_key(c[0] + (v & 1), c[1] + ((v >> 1) & 1), c[2] + (v >> 2)), hint[n],
-                         grouped ? group_of[n] : 0});
+    const uint32_t g = parent_of[n];
+    const int a = c[0] & 1, b = c[1] & 1, z = c[2] & 1;  // position inside the parent
+    for (int v = 0; v < 8; ++v) mask[g] |= 1u << lattice_bit(a + (v & 1), b + ((v >> 1) & 1), z + (v >> 2));
   }
-  std::sort(corners.begin(), corners.end(), [](const Corner& a, const Corner& b) { return a.key < b.key; });
-  corners.erase(std::unique(corners.begin(), corners.end(),
-                            [](const Corner& a, const Corner& b) { return a.key == b.key; }),
-                corners.end());
-  band.corner_keys.resize(corners.size());
-  for (size_t n = 0; n < corners.size(); ++n) band.corner_keys[n] = corners[n].key;
+  // Slot: a (parent, lattice point) pair, numbered parent by parent.
+  std::vector<uint32_t> slot_start(parents.size() + 1, 0);
+  for (size_t g = 0; g < parents.size(); ++g) slot_start[g + 1] = slot_start[g] + uint32_t(std::popcount(mask[g]));
+  auto slot_of = [&](uint32_t g, int bit) {
+    return slot_start[g] + uint32_t(std::popcount(mask[g] & ((1u << bit) - 1)));
+  };
+  struct Entry {
+    uint64_t key;
+    uint32_t slot;
+  };
+  std::vector<Entry> entries;
+  entries.reserve(slot_start.back());
+  // The parent's lowest lattice point is twice its level-1 coordinates; the
+  // level-1 key is not stored, so take it from any of its leaves.
+  std::vector<uint64_t> parent_origin(parents.size(), 0);
+  for (size_t n = 0; n < current.size(); ++n) {
+    auto c = grid_coords(current[n]);
+    parent_origin[parent_of[n]] = grid_key(c[0] & ~1, c[1] & ~1, c[2] & ~1);
+  }
+  for (size_t g = 0; g < parents.size(); ++g) {
+    if (!mask[g]) continue;
+    auto o = grid_coords(parent_origin[g]);
+    for (int bit = 0; bit < 27; ++bit)
+      if (mask[g] >> bit & 1)
+        entries.push_back({grid_key(o[0] + bit % 3, o[1] + (bit / 3) % 3, o[2] + bit / 9), slot_of(uint32_t(g), bit)});
+  }
+  std::sort(entries.begin(), entries.end(), [](const Entry& x, const Entry& y) {
+    return x.key < y.key || (x.key == y.key && x.slot < y.slot);
+  });
+  // Unique corners in key order; slot -> corner index; owners evaluate.
+  std::vector<uint32_t> corner_of_slot(slot_start.back());
+  std::vector<char> owns(slot_start.back(), 0);
+  for (size_t e = 0; e < entries.size(); ++e) {
+    if (e == 0 || entries[e].key != entries[e - 1].key) {
+      band.corner_keys.push_back(entries[e].key);
+      owns[entries[e].slot] = 1;
+    }
+    corner_of_slot[entries[e].slot] = uint32_t(band.corner_keys.size() - 1);
+  }
+  std::vector<Entry>().swap(entries);
   band.corner_values.resize(band.corner_keys.size());
   progress.update("proxy: narrow band", double(levels) / (levels + 1));
+
+  // Corner values. A corner of a cell the level set crosses is within
+  // sqrt(3) h of it, so a band query of o +- 1.75 h gives exact values
+  // wherever they are used (1-Lipschitz); values outside the band only need
+  // their sign. Warm start: the closest triangle of a leaf center nearby.
   const double band_width = 1.75 * cell;  // > sqrt(3) h
   const double corner_lo = offset - band_width, corner_hi = offset + band_width;
-  if (grouped) {
-    // Corners by parent (counting sort), one gathered list per parent.
-    std::vector<size_t> start(groups.size() + 1, 0);
-    for (const Corner& c : corners) ++start[c.group + 1];
-    for (size_t g = 0; g < groups.size(); ++g) start[g + 1] += start[g];
-    std::vector<uint32_t> order(corners.size());
-    {
-      std::vector<size_t> fill(start.begin(), start.end() - 1);
-      for (size_t n = 0; n < corners.size(); ++n) order[fill[corners[n].group]++] = uint32_t(n);
-    }
+  std::vector<uint32_t> parent_hint(parents.size(), UINT32_MAX);
+  for (size_t n = 0; n < current.size(); ++n) parent_hint[parent_of[n]] = hint[n];
 #pragma omp parallel
-    {
-      std::vector<uint32_t> list;
+  {
+    CandidateList list;
 #pragma omp for schedule(dynamic, 16)
-      for (long g = 0; g < long(groups.size()); ++g) {
-        if (start[size_t(g)] == start[size_t(g) + 1]) continue;
-        list.clear();
-        bvh.gather(groups[size_t(g)].box, capped(groups[size_t(g)].radius, corner_hi), list);
-        for (size_t m = start[size_t(g)]; m < start[size_t(g) + 1]; ++m) {
-          uint32_t n = order[m];
-          uint32_t warm = corners[n].hint;
-          double d = bvh.distance_among(band.corner_position(corners[n].key), list, corner_lo, corner_hi, &warm);
-          band.corner_values[n] = d - offset;
-        }
+    for (long g = 0; g < long(parents.size()); ++g) {
+      bool any = false;
+      for (uint32_t s = slot_start[size_t(g)]; s < slot_start[size_t(g) + 1]; ++s) any |= owns[s] != 0;
+      if (!any) continue;
+      bvh.gather(parents[size_t(g)].box, capped(parents[size_t(g)].radius, corner_hi), list);
+      auto o = grid_coords(parent_origin[size_t(g)]);
+      uint32_t warm = parent_hint[size_t(g)];
+      for (int bit = 0; bit < 27; ++bit) {
+        if (!(mask[size_t(g)] >> bit & 1)) continue;
+        uint32_t s = slot_of(uint32_t(g), bit);
+        if (!owns[s]) continue;
+        uint64_t key = grid_key(o[0] + bit % 3, o[1] + (bit / 3) % 3, o[2] + bit / 9);
+        double d = bvh.distance_among(band.corner_position(key), list, corner_lo, corner_hi, &warm);
+        band.corner_values[corner_of_slot[s]] = d - offset;
       }
-    }
-  } else {
-#pragma omp parallel for schedule(dynamic, 1024)
-    for (long n = 0; n < long(corners.size()); ++n) {
-      uint32_t warm = corners[n].hint;
-      double d = bvh.distance(band.corner_position(corners[n].key), corner_lo, corner_hi, &warm);
-      band.corner_values[n] = d - offset;
     }
   }
   // Leaves: the candidates whose corners change sign; the others hold no
   // surface. Their unused corners stay (harmless, and lookups stay simple).
+  std::vector<std::array<uint32_t, 8>> corners_of(current.size());
   std::vector<char> crossing(current.size());
 #pragma omp parallel for schedule(static)
   for (long n = 0; n < long(current.size()); ++n) {
-    auto c = grid_coords(current[n]);
+    auto c = grid_coords(current[size_t(n)]);
+    const uint32_t g = parent_of[size_t(n)];
+    const int a = c[0] & 1, b = c[1] & 1, z = c[2] & 1;
     int inside = 0;
-    for (int v = 0; v < 8; ++v)
-      inside += band.value(grid_key(c[0] + (v & 1), c[1] + ((v >> 1) & 1), c[2] + (v >> 2))) < 0;
-    crossing[n] = inside != 0 && inside != 8;
+    for (int v = 0; v < 8; ++v) {
+      uint32_t index = corner_of_slot[slot_of(g, lattice_bit(a + (v & 1), b + ((v >> 1) & 1), z + (v >> 2)))];
+      corners_of[size_t(n)][v] = index;
+      inside += band.corner_values[index] < 0;
+    }
+    crossing[size_t(n)] = inside != 0 && inside != 8;
   }
-  std::vector<uint64_t> leaves;
+  // Leaves in key order (marching cubes' output order follows them).
+  std::vector<uint32_t> order;
   for (size_t n = 0; n < current.size(); ++n)
-    if (crossing[n]) leaves.push_back(current[n]);
-  std::sort(leaves.begin(), leaves.end());
-  band.cells = std::move(leaves);
+    if (crossing[n]) order.push_back(uint32_t(n));
+  std::sort(order.begin(), order.end(), [&](uint32_t x, uint32_t y) { return current[x] < current[y]; });
+  band.cells.resize(order.size());
+  band.cell_corners.resize(order.size());
+  for (size_t m = 0; m < order.size(); ++m) {
+    band.cells[m] = current[order[m]];
+    band.cell_corners[m] = corners_of[order[m]];
+  }
   band.distance_evaluations = evaluations + band.corner_keys.size();
   return band;
 }

@@ -89,7 +89,7 @@ TEST(ProxyParts, GatheredCandidatesGiveExactDistancesInTheirBox) {
     Vec3 c{u(rng), u(rng), u(rng) * 0.5};
     double half = s(rng);
     Box3 box{c - Vec3{half, half, half}, c + Vec3{half, half, half}};
-    std::vector<uint32_t> list;
+    CandidateList list;
     bvh.gather(box, bvh.distance(c) + std::sqrt(3.0) * half, list);
     total += list.size();
     EXPECT_LT(list.size(), bvh.size());

@@ -46,6 +46,10 @@ struct NarrowBand {
   std::array<int, 3> dims{};  // cells along each axis
   double offset = 0;
   std::vector<uint64_t> cells;          // sign-changing leaf cells (key of their lowest corner), sorted
+  // Per cell of `cells`, the index into corner_keys/corner_values of its
+  // corner v = dx | dy << 1 | dz << 2 (filled by build_narrow_band; a band
+  // made by hand may leave it empty and is read through value()).
+  std::vector<std::array<uint32_t, 8>> cell_corners;
   std::vector<uint64_t> corner_keys;    // corners of the candidate leaf cells, sorted, unique
   std::vector<double> corner_values;    // f = d - o at corner_keys
   size_t distance_evaluations = 0;
@@ -57,6 +61,8 @@ struct NarrowBand {
   }
   // f at a corner of a leaf cell (binary search).
   double value(uint64_t key) const;
+  // f at the 8 corners of cells[n] (v = dx | dy << 1 | dz << 2).
+  std::array<double, 8> cell_values(size_t n) const;
 };
 
 // `box` bounds the soup; the grid pads it by o + 2h on every side.

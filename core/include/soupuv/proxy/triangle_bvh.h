@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "soupuv/mesh.h"
+#include "soupuv/proxy/candidate_list.h"
 #include "soupuv/soup.h"
 #include "soupuv/vec.h"
 
@@ -44,16 +45,16 @@ class TriangleBvh {
   // triangle found (unchanged when none is closer than hi).
   double distance(Vec3 p, double lo = 0, double hi = INFINITY, uint32_t* nearest = nullptr) const;
 
-  // Appends to `out` the ids of every triangle whose bounding box lies within
-  // `radius` of `box` (a superset of the triangles within `radius` of it).
+  // Fills `out` with every triangle whose bounding box lies within `radius`
+  // of `box` (a superset of the triangles within `radius` of it).
   // With radius >= (distance from the box center to the soup) + half the box
   // diagonal, the list holds the closest triangle of every point of the box,
   // so distance_among over it is exact there (nearest-candidate culling).
-  void gather(const Box3& box, double radius, std::vector<uint32_t>& out) const;
+  void gather(const Box3& box, double radius, CandidateList& out) const;
 
-  // distance() restricted to the triangles `ids` (from gather), same answer
-  // semantics; exact for points whose closest triangle is among them.
-  double distance_among(Vec3 p, const std::vector<uint32_t>& ids, double lo = 0, double hi = INFINITY,
+  // distance() restricted to the candidates of `list` (from gather), same
+  // answer semantics; exact for points whose closest triangle is among them.
+  double distance_among(Vec3 p, const CandidateList& list, double lo = 0, double hi = INFINITY,
                         uint32_t* nearest = nullptr) const;
 
   // Parity of the crossings of the ray p + t*dir, t > 0, with the triangles.
