@@ -5,11 +5,16 @@
 //   soups    the noisy soups in ../shared/data/soups, automatic offset.
 //   scaling  a ~100k-triangle noisy soup at resolution 128, 256, 512 (fixed
 //            offset): seconds and peak memory, and their log-log slopes.
-// Flags: --quick (small subset, about a minute), --only=table1|soups|scaling,
+//   samples  EVERY mesh file in ../shared/data (bad/ excluded) at the
+//            defaults (automatic offset, sampling resolution, no cap): one
+//            row per file with its checks, rung and seconds; files that do
+//            not load (or have no triangles) get a row saying why.
+// Flags: --quick (small subset, about a minute), --only=table1|soups|scaling|samples,
 //        --resolutions=128,256 (scaling: these instead of the default list),
 //        --no-prune (scaling without the cavity pruning, for comparison).
 #include <sys/resource.h>
 
+#include <algorithm>
 #include <filesystem>
 #include <iostream>
 #include <sstream>
@@ -154,6 +159,59 @@ void scaling(bool quick, std::vector<int> resolutions, bool prune) {
         {"note", "slope 2 = grows with the surface; 3 would be the volume"}});
 }
 
+// Every glTF/GLB/Draco file under ../shared/data except bad/, sorted.
+std::vector<std::filesystem::path> sample_files() {
+  namespace fs = std::filesystem;
+  std::vector<fs::path> out;
+  fs::path root = fs::path(SOUPUV_SHARED_DATA);
+  for (const auto& e : fs::recursive_directory_iterator(root)) {
+    if (!e.is_regular_file()) continue;
+    std::string ext = e.path().extension().string();
+    if (ext != ".glb" && ext != ".gltf" && ext != ".drc") continue;
+    if (fs::relative(e.path(), root).string().rfind("bad", 0) == 0) continue;
+    out.push_back(e.path());
+  }
+  std::sort(out.begin(), out.end());
+  return out;
+}
+
+void samples(bool quick) {
+  namespace fs = std::filesystem;
+  int ok = 0, failed = 0, skipped = 0;
+  for (const fs::path& path : sample_files()) {
+    std::string name = fs::relative(path, fs::path(SOUPUV_SHARED_DATA)).string();
+    io::LoadOptions load;
+    load.allow_external_uris = true;
+    load.base_dir = path.parent_path().string();
+    Soup soup;
+    try {
+      soup = io::load_file(path.string(), load).soup;
+    } catch (const Error& e) {
+      // Not a triangle mesh (points, lines, empty): nothing to wrap.
+      emit({{"suite", "proxy"}, {"part", "samples"}, {"mesh", name}, {"loaded", false}, {"error", e.what()}});
+      ++skipped;
+      continue;
+    }
+    // Quick: only the small files, so the run stays about a minute.
+    if (quick && soup.triangles.size() > 20000) continue;
+    proxy::ProxyOptions o;  // the defaults: automatic offset, sampling resolution, no cap
+    reset_peak_rss();
+    double cpu0 = cpu_seconds();
+    auto r = proxy::build_proxy(soup, o);
+    auto j = row("samples", name, soup, r);
+    j["loaded"] = true;
+    j["cpu_seconds"] = cpu_seconds() - cpu0;
+    j["ladder_tried"] = r.ladder_tried;
+    j["ok"] = r.ok() && r.outer_components == 1 && r.min_distance_ratio >= 0.5;
+    emit(j);
+    (j["ok"].get<bool>() ? ok : failed)++;
+  }
+  emit({{"suite", "proxy"}, {"kind", "summary"}, {"part", "samples"}, {"ok", ok}, {"failed", failed},
+        {"not_loaded", skipped},
+        {"note", "ok = closed, manifold, outward, one outer component, encloses, no self-intersections, "
+                 "min distance >= 0.5 o"}});
+}
+
 int run_proxy(const Args& args) {
   std::string only;
   bool prune = true;  // --no-prune: scaling builds the cavity shell too (the old way)
@@ -170,6 +228,7 @@ int run_proxy(const Args& args) {
     if (only.empty() || only == "table1") table1(args.quick);
     if (only.empty() || only == "soups") soups(args.quick);
     if (only.empty() || only == "scaling") scaling(args.quick, resolutions, prune);
+    if (only.empty() || only == "samples") samples(args.quick);
   } catch (const Error& e) {
     std::cerr << "proxy bench: " << e.what() << "\n";
     return 1;
