@@ -10,114 +10,26 @@
 #include "soupuv/field/quadrature.h"
 #include "soupuv/field/sources.h"
 #include "soupuv/field/triangle_integrals.h"
-
-// The point-charge loop is where tracing spends its time. The compiler will
-// not vectorise it (sqrt may set errno), so it is written with intrinsics:
-// AVX2+FMA (four lanes) when the CPU has them, checked once at run time,
-// else SSE2 (two lanes, part of x86-64); plain C++ elsewhere.
-#if defined(__x86_64__) && defined(__GNUC__)
-#include <immintrin.h>
-#define SOUPUV_X86_KERNELS 1
-#endif
+#include "tracer_kernels.h"
 
 namespace soupuv::field {
 
 namespace {
 
-// Adds the field of the points k in [k0, n) to e (the tails of the vector loops).
-void point_charges_scalar(const double* px, const double* py, const double* pz, const double* q, int k0, int n,
-                          double x, double y, double z, double* e) {
-  for (int k = k0; k < n; ++k) {
-    const double dx = x - px[k], dy = y - py[k], dz = z - pz[k];
-    const double inv = 1.0 / std::sqrt(dx * dx + dy * dy + dz * dz);
-    const double w3 = q[k] * inv * inv * inv;
-    e[0] += w3 * dx;
-    e[1] += w3 * dy;
-    e[2] += w3 * dz;
+Vec3 scalar_sum(const Vec3* p, const double* q, int n, Vec3 x) {
+  Vec3 e{0, 0, 0};
+  for (int k = 0; k < n; ++k) {
+    const Vec3 d = x - p[k];
+    const double inv = 1.0 / std::sqrt(norm2(d));
+    e += (q[k] * inv * inv * inv) * d;
   }
+  return e;
 }
 
-#ifdef SOUPUV_X86_KERNELS
-__attribute__((target("avx2,fma"))) void point_charges_avx2(const double* px, const double* py, const double* pz,
-                                                             const double* q, int n, double x, double y, double z,
-                                                             double* e) {
-  const __m256d X = _mm256_set1_pd(x), Y = _mm256_set1_pd(y), Z = _mm256_set1_pd(z), one = _mm256_set1_pd(1.0);
-  __m256d ex = _mm256_setzero_pd(), ey = ex, ez = ex;
-  int k = 0;
-  for (; k + 4 <= n; k += 4) {
-    const __m256d dx = _mm256_sub_pd(X, _mm256_loadu_pd(px + k));
-    const __m256d dy = _mm256_sub_pd(Y, _mm256_loadu_pd(py + k));
-    const __m256d dz = _mm256_sub_pd(Z, _mm256_loadu_pd(pz + k));
-    const __m256d r2 = _mm256_fmadd_pd(dz, dz, _mm256_fmadd_pd(dy, dy, _mm256_mul_pd(dx, dx)));
-    const __m256d inv = _mm256_div_pd(one, _mm256_sqrt_pd(r2));
-    const __m256d w3 = _mm256_mul_pd(_mm256_mul_pd(_mm256_loadu_pd(q + k), inv), _mm256_mul_pd(inv, inv));
-    ex = _mm256_fmadd_pd(w3, dx, ex);
-    ey = _mm256_fmadd_pd(w3, dy, ey);
-    ez = _mm256_fmadd_pd(w3, dz, ez);
-  }
-  alignas(32) double sx[4], sy[4], sz[4];
-  _mm256_store_pd(sx, ex);
-  _mm256_store_pd(sy, ey);
-  _mm256_store_pd(sz, ez);
-  e[0] += (sx[0] + sx[1]) + (sx[2] + sx[3]);
-  e[1] += (sy[0] + sy[1]) + (sy[2] + sy[3]);
-  e[2] += (sz[0] + sz[1]) + (sz[2] + sz[3]);
-  point_charges_scalar(px, py, pz, q, k, n, x, y, z, e);
-}
-
-void point_charges_sse2(const double* px, const double* py, const double* pz, const double* q, int n, double x,
-                        double y, double z, double* e) {
-  const __m128d X = _mm_set1_pd(x), Y = _mm_set1_pd(y), Z = _mm_set1_pd(z), one = _mm_set1_pd(1.0);
-  __m128d ex = _mm_setzero_pd(), ey = ex, ez = ex;
-  int k = 0;
-  for (; k + 2 <= n; k += 2) {
-    const __m128d dx = _mm_sub_pd(X, _mm_loadu_pd(px + k));
-    const __m128d dy = _mm_sub_pd(Y, _mm_loadu_pd(py + k));
-    const __m128d dz = _mm_sub_pd(Z, _mm_loadu_pd(pz + k));
-    const __m128d r2 = _mm_add_pd(_mm_add_pd(_mm_mul_pd(dx, dx), _mm_mul_pd(dy, dy)), _mm_mul_pd(dz, dz));
-    const __m128d inv = _mm_div_pd(one, _mm_sqrt_pd(r2));
-    const __m128d w3 = _mm_mul_pd(_mm_mul_pd(_mm_loadu_pd(q + k), inv), _mm_mul_pd(inv, inv));
-    ex = _mm_add_pd(ex, _mm_mul_pd(w3, dx));
-    ey = _mm_add_pd(ey, _mm_mul_pd(w3, dy));
-    ez = _mm_add_pd(ez, _mm_mul_pd(w3, dz));
-  }
-  alignas(16) double sx[2], sy[2], sz[2];
-  _mm_store_pd(sx, ex);
-  _mm_store_pd(sy, ey);
-  _mm_store_pd(sz, ez);
-  e[0] += sx[0] + sx[1];
-  e[1] += sy[0] + sy[1];
-  e[2] += sz[0] + sz[1];
-  point_charges_scalar(px, py, pz, q, k, n, x, y, z, e);
-}
-
-const bool kHasAvx2 = __builtin_cpu_supports("avx2") && __builtin_cpu_supports("fma");
-#endif
-
-// Adds to e[0..3) the field at (x, y, z) of point charges q[k] at (px, py, pz)[k], k < n.
-void point_charges_field(const double* px, const double* py, const double* pz, const double* q, int n,
-                         double x, double y, double z, double* e) {
-#ifdef SOUPUV_X86_KERNELS
-  if (kHasAvx2) return point_charges_avx2(px, py, pz, q, n, x, y, z, e);
-  return point_charges_sse2(px, py, pz, q, n, x, y, z, e);
-#else
-  point_charges_scalar(px, py, pz, q, 0, n, x, y, z, e);
-#endif
-}
-
-// Adds to e the field at x of charge q spread over triangle abc by the
-// degree-6 rule (12 points), built on the fly into a vectorisable block.
-void degree6_field(Vec3 a, Vec3 b, Vec3 c, double q, Vec3 x, double* e) {
-  static const TriangleRule& rule = triangle_rule(6);
-  constexpr int kPoints = 12;
-  double px[kPoints], py[kPoints], pz[kPoints], pq[kPoints];
-  for (int k = 0; k < kPoints; ++k) {
-    const auto& l = rule.points[k];
-    const Vec3 y = l[0] * a + l[1] * b + l[2] * c;
-    px[k] = y.x; py[k] = y.y; pz[k] = y.z;
-    pq[k] = q * rule.weights[k];
-  }
-  point_charges_field(px, py, pz, pq, kPoints, x.x, x.y, x.z, e);
+void to_float(Vec3 v, float* f) {
+  f[0] = static_cast<float>(v.x);
+  f[1] = static_cast<float>(v.y);
+  f[2] = static_cast<float>(v.z);
 }
 
 }  // namespace
@@ -137,18 +49,16 @@ void TracerField::near_triangle(size_t j, double q, Vec3 x, double* e) const {
   if (!(src.area[j] > 0)) return;
   const double d2 = norm2(x - src.centroid[j]);
   const double r = src.radius[j];
-  const Vec3 a = src.a[j], b = src.b[j], c = src.c[j];
-  if (!src.is_closed_form(j, x)) return degree6_field(a, b, c, q, x, e);
-  if (d2 >= kSplitFactor * kSplitFactor * r * r && kSplitFactor < src.closed_factor) {
-    const Vec3 ab = 0.5 * (a + b), bc = 0.5 * (b + c), ca = 0.5 * (c + a);
-    const double q4 = 0.25 * q;
-    degree6_field(a, ab, ca, q4, x, e);
-    degree6_field(ab, b, bc, q4, x, e);
-    degree6_field(ca, bc, c, q4, x, e);
-    degree6_field(bc, ca, ab, q4, x, e);
-    return;
+  const bool closed = src.is_closed_form(j, x);
+  if (!closed || (d2 >= kSplitFactor * kSplitFactor * r * r && kSplitFactor < src.closed_factor)) {
+    float A[3], B[3], C[3];
+    to_float(src.a[j] - x, A);
+    to_float(src.b[j] - x, B);
+    to_float(src.c[j] - x, C);
+    const auto& rule = closed ? tracer::degree6_children_rule() : tracer::degree6_rule();
+    return tracer::rule_field(rule, A, B, C, static_cast<float>(q), e);
   }
-  TriangleIntegrals t = triangle_integrals(a, b, c, x);
+  TriangleIntegrals t = triangle_integrals(src.a[j], src.b[j], src.c[j], x);
   const double s = q / src.area[j];
   e[0] += s * t.field.x;
   e[1] += s * t.field.y;
@@ -162,19 +72,16 @@ TracerField::TracerField(const Fmm& fmm, const std::vector<double>& charges, int
       ncoef_(fmm.ncoef_) {
   const SourceGeometry& src = fmm.src_;
   const size_t n = fmm.order_.size();
-  px_.resize(n * m_); py_.resize(n * m_); pz_.resize(n * m_); pq_.resize(n * m_);
+  pq_.resize(n * m_);
   tri_charge_.resize(n);
   for (size_t k = 0; k < n; ++k) {
     const double q = charges[fmm.order_[k]];
     tri_charge_[k] = q;
-    for (int i = 0; i < m_; ++i) {
-      const size_t t = k * m_ + i;
-      px_[t] = fmm.points_[t].x;
-      py_[t] = fmm.points_[t].y;
-      pz_[t] = fmm.points_[t].z;
-      pq_[t] = q * src.qweights[i];
-    }
+    for (int i = 0; i < m_; ++i) pq_[k * m_ + i] = q * src.qweights[i];
   }
+  // One float block per source leaf (tracer_kernels.h), relative to its
+  // expansion centre.
+  const int gf = tracer::group_floats(m_);
   span_of_cell_.assign(fmm.scells_.size(), -1);
   for (size_t ci = 0; ci < fmm.scells_.size(); ++ci) {
     const auto& cell = fmm.scells_[ci];
@@ -183,15 +90,31 @@ TracerField::TracerField(const Fmm& fmm, const std::vector<double>& charges, int
     s.mc = cell.mc;
     s.first = cell.first;
     s.count = cell.count;
-    double guard = 0;
-    for (int k = cell.first; k < cell.first + cell.count; ++k) {
-      const uint32_t j = fmm.order_[k];
-      guard = std::max(guard, norm(src.centroid[j] - cell.mc) + src.near_factor * src.radius[j]);
+    s.groups = (cell.count + tracer::kLanes - 1) / tracer::kLanes;
+    s.block = blocks_.size();
+    blocks_.resize(blocks_.size() + static_cast<size_t>(s.groups) * gf);
+    for (int g = 0; g < s.groups; ++g) {
+      float* b = &blocks_[s.block + static_cast<size_t>(g) * gf];
+      for (int l = 0; l < tracer::kLanes; ++l) {
+        const int k = cell.first + g * tracer::kLanes + l;
+        const bool real = k < cell.first + cell.count;
+        // Padding: never near, no charge, points well away from any target.
+        const Vec3 c = real ? src.centroid[fmm.order_[k]] - s.mc : Vec3{1e6, 1e6, 1e6};
+        const double nr = real ? src.near_factor * src.radius[fmm.order_[k]] : -1.0;
+        b[l] = static_cast<float>(c.x);
+        b[8 + l] = static_cast<float>(c.y);
+        b[16 + l] = static_cast<float>(c.z);
+        b[24 + l] = real ? static_cast<float>(nr * nr) : -1.0f;
+        for (int i = 0; i < m_; ++i) {
+          float* p = b + 32 + 32 * i;
+          const Vec3 y = real ? fmm.points_[static_cast<size_t>(k) * m_ + i] - s.mc : Vec3{1e6, 1e6, 1e6};
+          p[l] = static_cast<float>(y.x);
+          p[8 + l] = static_cast<float>(y.y);
+          p[16 + l] = static_cast<float>(y.z);
+          p[24 + l] = real ? static_cast<float>(pq_[static_cast<size_t>(k) * m_ + i]) : 0.0f;
+        }
+      }
     }
-    // A little slack so rounding in the two distance computations cannot
-    // skip a triangle is_near would claim.
-    guard = guard * (1 + 1e-9) + 1e-300;
-    s.guard2 = guard * guard;
     span_of_cell_[ci] = static_cast<int>(spans_.size());
     spans_.push_back(s);
   }
@@ -306,7 +229,6 @@ void TracerField::field(int leaf, const Vec3* x, int count, Vec3* E, double* nea
     for (int i = 0; i < count; ++i) field_outside(x[i], &E[i], nearest ? &nearest[i] : nullptr);
     return;
   }
-  const SourceGeometry& src = fmm_.src_;
   const auto& cell = fmm_.tcells_[leaf];
   const double* L = &L_[static_cast<size_t>(slot_[leaf]) * ncoef_];
   for (int i = 0; i < count; ++i) {
@@ -314,39 +236,54 @@ void TracerField::field(int leaf, const Vec3* x, int count, Vec3* E, double* nea
     if (nearest) nearest[i] = inf;
   }
   const int m = m_;
+  // Near-candidate bits of up to kGroups groups at a time (a leaf at the
+  // tree's depth limit may hold more than leaf_size triangles).
+  constexpr int kGroups = 16;
+  uint8_t bits[kGroups];
+  const int gf = tracer::group_floats(m);
   for (int B : fmm_.near_[leaf]) {
     const Span& s = spans_[span_of_cell_[B]];
     for (int i = 0; i < count; ++i) {
-      const Vec3 xi = x[i];
+      float xf[3];
+      to_float(x[i] - s.mc, xf);
       double e[3] = {0, 0, 0};
-      if (norm2(xi - s.mc) >= s.guard2) {
-        const size_t p0 = static_cast<size_t>(s.first) * m;
-        point_charges_field(&px_[p0], &py_[p0], &pz_[p0], &pq_[p0], s.count * m, xi.x, xi.y, xi.z, e);
-      } else {
-        for (int k = s.first; k < s.first + s.count; ++k) {
-          const uint32_t j = fmm_.order_[k];
-          if (!src.is_near(j, xi)) {
-            const size_t p0 = static_cast<size_t>(k) * m;
-            point_charges_field(&px_[p0], &py_[p0], &pz_[p0], &pq_[p0], m, xi.x, xi.y, xi.z, e);
-            continue;
-          }
-          near_triangle(j, tri_charge_[k], xi, e);
-          // Every point of the triangle lies within radius of its centroid, so
-          // |x - centroid| - radius bounds the distance from below: most
-          // near triangles cannot beat the nearest so far.
-          if (nearest && src.area[j] > 0 && std::sqrt(norm2(xi - src.centroid[j])) - src.radius[j] < nearest[i])
-            nearest[i] = std::min(nearest[i], point_triangle_distance(src.a[j], src.b[j], src.c[j], xi));
-        }
+      for (int g0 = 0; g0 < s.groups; g0 += kGroups) {
+        const int ng = std::min(kGroups, s.groups - g0);
+        tracer::span_field(&blocks_[s.block + static_cast<size_t>(g0) * gf], ng, m, xf, e, bits);
+        for (int g = 0; g < ng; ++g)
+          for (unsigned b = bits[g]; b != 0; b &= b - 1)
+            near_candidate(s.first + (g0 + g) * tracer::kLanes + __builtin_ctz(b), x[i], e,
+                           nearest ? &nearest[i] : nullptr);
       }
       E[i] += Vec3{e[0], e[1], e[2]};
     }
   }
 }
 
+void TracerField::near_candidate(int k, Vec3 x, double* e, double* nearest) const {
+  const SourceGeometry& src = fmm_.src_;
+  const uint32_t j = fmm_.order_[k];
+  if (!src.is_near(j, x)) {
+    // A float candidate the double test rejects: its own quadrature points.
+    const size_t p0 = static_cast<size_t>(k) * m_;
+    const Vec3 ej = scalar_sum(&fmm_.points_[p0], &pq_[p0], m_, x);
+    e[0] += ej.x;
+    e[1] += ej.y;
+    e[2] += ej.z;
+    return;
+  }
+  near_triangle(j, tri_charge_[k], x, e);
+  // Every point of the triangle lies within radius of its centroid, so
+  // |x - centroid| - radius bounds the distance from below: most near
+  // triangles cannot beat the nearest so far.
+  if (nearest && src.area[j] > 0 && std::sqrt(norm2(x - src.centroid[j])) - src.radius[j] < *nearest)
+    *nearest = std::min(*nearest, point_triangle_distance(src.a[j], src.b[j], src.c[j], x));
+}
+
 size_t TracerField::memory_bytes() const {
-  return (px_.size() + py_.size() + pz_.size() + pq_.size() + tri_charge_.size() + M_.size() + L_.size()) *
-             sizeof(double) +
-         (span_of_cell_.size() + slot_.size()) * sizeof(int) + spans_.size() * sizeof(Span);
+  return (pq_.size() + tri_charge_.size() + M_.size() + L_.size()) * sizeof(double) +
+         blocks_.size() * sizeof(float) + (span_of_cell_.size() + slot_.size()) * sizeof(int) +
+         spans_.size() * sizeof(Span);
 }
 
 }  // namespace soupuv::field

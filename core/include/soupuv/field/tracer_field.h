@@ -19,17 +19,17 @@
 //    visits (and their ancestors): the target tree over the whole stop region
 //    has many cells around the surface that no line ever enters, and M2L there
 //    was most of the cost of Fmm::set_charges.
-//  - The near field runs over contiguous structure-of-arrays copies of the
-//    quadrature points and charges (tree order, so a source leaf is one
-//    contiguous range) with a vectorised loop; a whole source leaf skips the
-//    per-triangle test when a bounding "guard" sphere proves none of its
-//    triangles is near the point, and the closed form runs only for triangles
-//    really close (within 1.75 radii; from there to the model's 2.5 radii the
-//    degree-6 rule on the triangle's four midpoint children is as accurate,
-//    see tracer_field.cpp).
+//  - The near field runs in single precision over one float block per source
+//    leaf (tracer_kernels.h: 8 triangles per SIMD group, coordinates relative
+//    to the leaf's centre): the kernel adds the quadrature points of every
+//    triangle that is not near and flags the rest as candidates, which are
+//    re-checked in double and evaluated by the model's near rule: the closed
+//    form (double) only within 1.75 radii; from there to the model's 2.5
+//    radii the degree-6 rule on the triangle's four midpoint children (float)
+//    is as accurate, see tracer_field.cpp; to 4 radii the degree-6 rule.
 //  - Points that share a target leaf are evaluated together, so a source
 //    leaf's data is loaded once for all of them.
-// Same model as Fmm::evaluate, the slow twin: equal to rounding except in the
+// Same model as Fmm::evaluate, the slow twin: equal to float rounding except in the
 // split band, where the difference is below the model's quadrature error.
 #pragma once
 
@@ -67,15 +67,19 @@ class TracerField {
   size_t m2l_operations() const { return m2l_ops_; }
 
  private:
-  // One source leaf: its triangles are tree positions [first, first + count),
-  // their quadrature points [first * m, (first + count) * m) in the SoA arrays.
-  // No triangle of the leaf is near a point farther than sqrt(guard2) from mc.
+  // One source leaf: its triangles are tree positions [first, first + count);
+  // its float block (tracer_kernels.h: `groups` groups of 8 triangle slots,
+  // coordinates relative to mc) starts at blocks_[block].
   struct Span {
     Vec3 mc;
-    double guard2 = 0;
-    int first = 0, count = 0;
+    int first = 0, count = 0, groups = 0;
+    size_t block = 0;
   };
 
+  // A triangle (tree position k) the float kernel flagged as possibly near
+  // x: adds its field at x to e[0..3) by the model's rule and lowers
+  // *nearest (if given) to its distance when it is near.
+  void near_candidate(int k, Vec3 x, double* e, double* nearest) const;
   // Adds to e[0..3) the field at x of triangle j (charge q) that is_near x.
   void near_triangle(size_t j, double q, Vec3 x, double* e) const;
   // Field and nearest near triangle at a point outside the target tree.
@@ -84,7 +88,8 @@ class TracerField {
 
   const Fmm& fmm_;
   int m_;                                  // quadrature points per triangle
-  std::vector<double> px_, py_, pz_, pq_;  // quadrature points and charges, tree order
+  std::vector<double> pq_;                 // quadrature point charges, tree order
+  std::vector<float> blocks_;              // per source leaf, see Span
   std::vector<double> tri_charge_;         // per triangle, tree order
   std::vector<int> span_of_cell_;          // source cell -> index into spans_ (-1: not a leaf)
   std::vector<Span> spans_;

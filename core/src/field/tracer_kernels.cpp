@@ -1,0 +1,212 @@
+// Single-precision near-field kernels of the tracer (see tracer_kernels.h).
+//
+// AVX2+FMA (8 float lanes) when the CPU has them, checked once at run time;
+// otherwise a scalar loop with the same arithmetic (also what non-x86 builds
+// run). 1/r comes from the approximate rsqrt (12 bits) refined by one Newton
+// step (~23 bits): cheaper than sqrt and a division, and float-accurate.
+#include "tracer_kernels.h"
+
+#include <cmath>
+
+#include "soupuv/field/quadrature.h"
+
+#if defined(__x86_64__) && defined(__GNUC__)
+#include <immintrin.h>
+#define SOUPUV_X86_KERNELS 1
+#endif
+
+namespace soupuv::field::tracer {
+
+namespace {
+
+// Near candidates are chosen with a little slack so float rounding cannot
+// miss a triangle the caller's double test calls near.
+constexpr float kNearSlack = 1.0f + 1e-4f;
+
+void span_field_scalar(const float* block, int groups, int m, const float x[3], double* e, uint8_t* near_bits) {
+  const int gf = group_floats(m);
+  float ex = 0, ey = 0, ez = 0;
+  for (int g = 0; g < groups; ++g) {
+    const float* b = block + static_cast<size_t>(g) * gf;
+    uint8_t bits = 0;
+    for (int l = 0; l < kLanes; ++l) {
+      const float dx = x[0] - b[l], dy = x[1] - b[8 + l], dz = x[2] - b[16 + l];
+      if (dx * dx + dy * dy + dz * dz < b[24 + l] * kNearSlack) bits |= uint8_t(1u << l);
+    }
+    near_bits[g] = bits;
+    for (int i = 0; i < m; ++i) {
+      const float* p = b + 32 + 32 * i;
+      for (int l = 0; l < kLanes; ++l) {
+        if (bits & (1u << l)) continue;
+        const float dx = x[0] - p[l], dy = x[1] - p[8 + l], dz = x[2] - p[16 + l];
+        const float inv = 1.0f / std::sqrt(dx * dx + dy * dy + dz * dz);
+        const float w3 = p[24 + l] * inv * inv * inv;
+        ex += w3 * dx;
+        ey += w3 * dy;
+        ez += w3 * dz;
+      }
+    }
+  }
+  e[0] += ex;
+  e[1] += ey;
+  e[2] += ez;
+}
+
+void rule_field_scalar(const FloatRule& rule, const float A[3], const float B[3], const float C[3], float q,
+                       double* e) {
+  float ex = 0, ey = 0, ez = 0;
+  for (int k = 0; k < rule.padded; ++k) {
+    const float px = rule.l0[k] * A[0] + rule.l1[k] * B[0] + rule.l2[k] * C[0];
+    const float py = rule.l0[k] * A[1] + rule.l1[k] * B[1] + rule.l2[k] * C[1];
+    const float pz = rule.l0[k] * A[2] + rule.l1[k] * B[2] + rule.l2[k] * C[2];
+    const float inv = 1.0f / std::sqrt(px * px + py * py + pz * pz);
+    const float w3 = rule.w[k] * inv * inv * inv;
+    // The point is at p relative to the evaluation point: the field points away from it.
+    ex -= w3 * px;
+    ey -= w3 * py;
+    ez -= w3 * pz;
+  }
+  e[0] += q * ex;
+  e[1] += q * ey;
+  e[2] += q * ez;
+}
+
+#ifdef SOUPUV_X86_KERNELS
+__attribute__((target("avx2,fma"))) inline __m256 inv_sqrt(__m256 r2) {
+  const __m256 y = _mm256_rsqrt_ps(r2);
+  // Newton: y (1.5 - 0.5 r2 y^2)
+  const __m256 t = _mm256_mul_ps(_mm256_mul_ps(_mm256_set1_ps(0.5f), r2), _mm256_mul_ps(y, y));
+  return _mm256_mul_ps(y, _mm256_sub_ps(_mm256_set1_ps(1.5f), t));
+}
+
+__attribute__((target("avx2,fma"))) double hsum(__m256 v) {
+  alignas(32) float s[8];
+  _mm256_store_ps(s, v);
+  return (double(s[0]) + s[1] + s[2] + s[3]) + (double(s[4]) + s[5] + s[6] + s[7]);
+}
+
+__attribute__((target("avx2,fma"))) void span_field_avx2(const float* block, int groups, int m, const float x[3],
+                                                          double* e, uint8_t* near_bits) {
+  const int gf = group_floats(m);
+  const __m256 X = _mm256_set1_ps(x[0]), Y = _mm256_set1_ps(x[1]), Z = _mm256_set1_ps(x[2]);
+  const __m256 slack = _mm256_set1_ps(kNearSlack);
+  __m256 ex = _mm256_setzero_ps(), ey = ex, ez = ex;
+  for (int g = 0; g < groups; ++g) {
+    const float* b = block + static_cast<size_t>(g) * gf;
+    __m256 dx = _mm256_sub_ps(X, _mm256_loadu_ps(b));
+    __m256 dy = _mm256_sub_ps(Y, _mm256_loadu_ps(b + 8));
+    __m256 dz = _mm256_sub_ps(Z, _mm256_loadu_ps(b + 16));
+    __m256 r2 = _mm256_fmadd_ps(dz, dz, _mm256_fmadd_ps(dy, dy, _mm256_mul_ps(dx, dx)));
+    const __m256 near = _mm256_cmp_ps(r2, _mm256_mul_ps(_mm256_loadu_ps(b + 24), slack), _CMP_LT_OQ);
+    near_bits[g] = static_cast<uint8_t>(_mm256_movemask_ps(near));
+    for (int i = 0; i < m; ++i) {
+      const float* p = b + 32 + 32 * i;
+      dx = _mm256_sub_ps(X, _mm256_loadu_ps(p));
+      dy = _mm256_sub_ps(Y, _mm256_loadu_ps(p + 8));
+      dz = _mm256_sub_ps(Z, _mm256_loadu_ps(p + 16));
+      r2 = _mm256_fmadd_ps(dz, dz, _mm256_fmadd_ps(dy, dy, _mm256_mul_ps(dx, dx)));
+      const __m256 inv = inv_sqrt(r2);
+      // Near candidates get charge 0 here (the caller evaluates them).
+      const __m256 q = _mm256_andnot_ps(near, _mm256_loadu_ps(p + 24));
+      const __m256 w3 = _mm256_mul_ps(_mm256_mul_ps(q, inv), _mm256_mul_ps(inv, inv));
+      ex = _mm256_fmadd_ps(w3, dx, ex);
+      ey = _mm256_fmadd_ps(w3, dy, ey);
+      ez = _mm256_fmadd_ps(w3, dz, ez);
+    }
+  }
+  e[0] += hsum(ex);
+  e[1] += hsum(ey);
+  e[2] += hsum(ez);
+}
+
+__attribute__((target("avx2,fma"))) void rule_field_avx2(const FloatRule& rule, const float A[3], const float B[3],
+                                                          const float C[3], float q, double* e) {
+  const __m256 ax = _mm256_set1_ps(A[0]), ay = _mm256_set1_ps(A[1]), az = _mm256_set1_ps(A[2]);
+  const __m256 bx = _mm256_set1_ps(B[0]), by = _mm256_set1_ps(B[1]), bz = _mm256_set1_ps(B[2]);
+  const __m256 cx = _mm256_set1_ps(C[0]), cy = _mm256_set1_ps(C[1]), cz = _mm256_set1_ps(C[2]);
+  __m256 ex = _mm256_setzero_ps(), ey = ex, ez = ex;
+  for (int k = 0; k < rule.padded; k += kLanes) {
+    const __m256 l0 = _mm256_load_ps(rule.l0 + k), l1 = _mm256_load_ps(rule.l1 + k), l2 = _mm256_load_ps(rule.l2 + k);
+    const __m256 px = _mm256_fmadd_ps(l2, cx, _mm256_fmadd_ps(l1, bx, _mm256_mul_ps(l0, ax)));
+    const __m256 py = _mm256_fmadd_ps(l2, cy, _mm256_fmadd_ps(l1, by, _mm256_mul_ps(l0, ay)));
+    const __m256 pz = _mm256_fmadd_ps(l2, cz, _mm256_fmadd_ps(l1, bz, _mm256_mul_ps(l0, az)));
+    const __m256 r2 = _mm256_fmadd_ps(pz, pz, _mm256_fmadd_ps(py, py, _mm256_mul_ps(px, px)));
+    const __m256 inv = inv_sqrt(r2);
+    const __m256 w3 = _mm256_mul_ps(_mm256_mul_ps(_mm256_load_ps(rule.w + k), inv), _mm256_mul_ps(inv, inv));
+    ex = _mm256_fnmadd_ps(w3, px, ex);
+    ey = _mm256_fnmadd_ps(w3, py, ey);
+    ez = _mm256_fnmadd_ps(w3, pz, ez);
+  }
+  e[0] += q * hsum(ex);
+  e[1] += q * hsum(ey);
+  e[2] += q * hsum(ez);
+}
+
+const bool kHasAvx2 = __builtin_cpu_supports("avx2") && __builtin_cpu_supports("fma");
+#endif
+
+// Pads with the centroid at weight 0: a real lane's point is never at the
+// evaluation point (the rules run only at >= 1.75 radii from the centroid),
+// so neither is the centroid, and 0 * finite stays 0.
+FloatRule make_rule(const std::vector<std::array<double, 3>>& points, const std::vector<double>& weights) {
+  FloatRule r;
+  const int n = static_cast<int>(weights.size());
+  r.padded = (n + kLanes - 1) / kLanes * kLanes;
+  for (int k = 0; k < r.padded; ++k) {
+    const bool real = k < n;
+    r.l0[k] = real ? static_cast<float>(points[k][0]) : 1.0f / 3;
+    r.l1[k] = real ? static_cast<float>(points[k][1]) : 1.0f / 3;
+    r.l2[k] = real ? static_cast<float>(points[k][2]) : 1.0f / 3;
+    r.w[k] = real ? static_cast<float>(weights[k]) : 0.0f;
+  }
+  return r;
+}
+
+}  // namespace
+
+void span_field(const float* block, int groups, int m, const float x[3], double* e, uint8_t* near_bits) {
+#ifdef SOUPUV_X86_KERNELS
+  if (kHasAvx2) return span_field_avx2(block, groups, m, x, e, near_bits);
+#endif
+  span_field_scalar(block, groups, m, x, e, near_bits);
+}
+
+void rule_field(const FloatRule& rule, const float A[3], const float B[3], const float C[3], float q, double* e) {
+#ifdef SOUPUV_X86_KERNELS
+  if (kHasAvx2) return rule_field_avx2(rule, A, B, C, q, e);
+#endif
+  rule_field_scalar(rule, A, B, C, q, e);
+}
+
+const FloatRule& degree6_rule() {
+  static const FloatRule rule = [] {
+    const TriangleRule& r = triangle_rule(6);
+    return make_rule(r.points, r.weights);
+  }();
+  return rule;
+}
+
+const FloatRule& degree6_children_rule() {
+  // Child triangles by their corners' barycentric coordinates in the parent
+  // (a, b, c; ab, bc, ca the edge midpoints).
+  static const FloatRule rule = [] {
+    using B3 = std::array<double, 3>;
+    const B3 a{1, 0, 0}, b{0, 1, 0}, c{0, 0, 1}, ab{0.5, 0.5, 0}, bc{0, 0.5, 0.5}, ca{0.5, 0, 0.5};
+    const std::array<std::array<B3, 3>, 4> children{{{a, ab, ca}, {ab, b, bc}, {ca, bc, c}, {bc, ca, ab}}};
+    const TriangleRule& r = triangle_rule(6);
+    std::vector<B3> points;
+    std::vector<double> weights;
+    for (const auto& ch : children)
+      for (size_t k = 0; k < r.weights.size(); ++k) {
+        B3 p{0, 0, 0};
+        for (int v = 0; v < 3; ++v)
+          for (int d = 0; d < 3; ++d) p[d] += r.points[k][v] * ch[v][d];
+        points.push_back(p);
+        weights.push_back(0.25 * r.weights[k]);
+      }
+    return make_rule(points, weights);
+  }();
+  return rule;
+}
+
+}  // namespace soupuv::field::tracer

@@ -1,0 +1,51 @@
+// Single-precision point-charge kernels of the tracer's near field
+// (TracerField, tracer_field.cpp). Internal to core/src/field.
+//
+// Why float: the tracer's target is a field relative error of 1e-4 against
+// direct summation; float (rel. 6e-8, after one Newton step on rsqrt ~1e-7)
+// keeps the sum of a near list of a few hundred point charges far below it,
+// while AVX2 processes 8 lanes per instruction instead of 4 and avoids the
+// double sqrt and division (the cost of the previous double kernel). Every
+// coordinate is stored relative to a nearby origin (a source leaf's expansion
+// centre, or the evaluation point itself), so float rounding is relative to
+// distances of the leaf's size, not to the model's coordinates. The closed
+// form (triangle_integrals) stays in double: it needs the digits.
+//
+// Layout of a source leaf ("span block"): its triangles in slots of 8 (the
+// SIMD lanes); per group of 8 slots, 32 + 32 m floats:
+//   cx[8] cy[8] cz[8] nr2[8]        centroid relative to the origin, (near_factor * radius)^2
+//   then per quadrature point i < m:  px[8] py[8] pz[8] pq[8]   (pq = charge * weight)
+// Padding slots have charge 0, nr2 -1 (never near) and points far away.
+#pragma once
+
+#include <cstdint>
+
+namespace soupuv::field::tracer {
+
+constexpr int kLanes = 8;
+// Floats per group of 8 slots for m quadrature points per triangle.
+inline int group_floats(int m) { return 32 + 32 * m; }
+
+// Adds to e[0..3) the field at x (relative to the block's origin) of every
+// slot of `groups` groups that is not a near candidate; near_bits[g] receives
+// the lanes of group g whose centroid lies within sqrt(nr2 * (1 + slack)) of x
+// (slack covers float rounding: the caller re-checks them in double and
+// evaluates them itself).
+void span_field(const float* block, int groups, int m, const float x[3], double* e, uint8_t* near_bits);
+
+// A symmetric rule given by barycentric coordinates and weights, padded with
+// zero-weight entries to a multiple of 8 (SIMD lanes) for rule_field.
+struct FloatRule {
+  int padded = 0;
+  alignas(32) float l0[64], l1[64], l2[64], w[64];
+};
+// The degree-6 rule (12 points) on the triangle, and on its four midpoint
+// children (48 points: the same rule on each child, weights / 4).
+const FloatRule& degree6_rule();
+const FloatRule& degree6_children_rule();
+
+// Adds to e[0..3) the field at the origin of charge q spread over triangle
+// (A, B, C) (vertices relative to the evaluation point) by `rule`.
+void rule_field(const FloatRule& rule, const float A[3], const float B[3], const float C[3], float q, double* e);
+
+}  // namespace soupuv::field::tracer
