@@ -40,9 +40,10 @@ ChargeResult solve_charges(const Soup& soup, const ChargeOptions& options_in, Pr
   for (double a : src.area) total_area += a;
   if (!(total_area > 0)) throw Error(ErrorCode::no_triangles, "all triangles are degenerate");
   progress.update("charge", 0.0);
+  std::unique_ptr<CollocationOperator> op;
   switch (options.solver) {
-    case ChargeOptions::Solver::krylov: solve_krylov(src, options, progress, r); break;
-    case ChargeOptions::Solver::robin_hood: solve_robin_hood(src, options, progress, r); break;
+    case ChargeOptions::Solver::krylov: solve_krylov(src, options, progress, r, op); break;
+    case ChargeOptions::Solver::robin_hood: solve_robin_hood(src, options, progress, r, op); break;
     case ChargeOptions::Solver::dense_lu: solve_dense_lu(src, options, progress, r); break;
   }
   double total = std::accumulate(r.charges.begin(), r.charges.end(), 0.0);
@@ -51,8 +52,10 @@ ChargeResult solve_charges(const Soup& soup, const ChargeOptions& options_in, Pr
   r.solve_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   r.solve_cpu_seconds = static_cast<double>(std::clock() - c0) / CLOCKS_PER_SEC;
   progress.update("charge", 0.95);
-  r.max_rel_potential_error = verify_potential(src, r.charges, options.verify_direct_max, options.threads,
-                                               &r.verified_by, &r.mean_potential);
+  const int verify_order = options.verify_order > 0 ? options.verify_order : options.fmm_order + 2;
+  r.max_rel_potential_error = verify_potential(src, r.charges, options.verify_direct_max, verify_order,
+                                               options.threads, op.get(), &r.verified_by, &r.mean_potential);
+  op.reset();
   r.converged = r.max_rel_potential_error <= options.tolerance;
   r.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   progress.update("charge", 1.0);

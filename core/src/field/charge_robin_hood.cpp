@@ -17,7 +17,8 @@
 
 namespace soupuv::field {
 
-void solve_robin_hood(const SourceGeometry& src, const ChargeOptions& o, Progress& progress, ChargeResult& r) {
+void solve_robin_hood(const SourceGeometry& src, const ChargeOptions& o, Progress& progress, ChargeResult& r,
+                      std::unique_ptr<CollocationOperator>& op) {
   auto t0 = std::chrono::steady_clock::now();
   auto elapsed = [&] { return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count(); };
   const long n = static_cast<long>(src.size());
@@ -36,8 +37,8 @@ void solve_robin_hood(const SourceGeometry& src, const ChargeOptions& o, Progres
     fo.order = o.fmm_order;
     fo.theta = o.fmm_theta;
     fo.threads = o.threads;
-    CollocationOperator A(src, fo);
-    A.apply(q, phi);
+    op = std::make_unique<CollocationOperator>(src, fo);
+    op->apply(q, phi);
     r.solver = "robin-hood";
   }
   const long max_it = o.max_iterations > 0 ? o.max_iterations : 200L * n;

@@ -3,13 +3,20 @@
 // history); the caller refines, normalises and verifies.
 #pragma once
 
+#include <memory>
+
+#include "collocation.h"
 #include "soupuv/field/field.h"
 #include "soupuv/field/sources.h"
 
 namespace soupuv::field {
 
-void solve_krylov(const SourceGeometry& src, const ChargeOptions& o, Progress& progress, ChargeResult& r);
-void solve_robin_hood(const SourceGeometry& src, const ChargeOptions& o, Progress& progress, ChargeResult& r);
+// `op` receives the FMM collocation operator a solver built (null if none),
+// so the verification can reuse its near matrix.
+void solve_krylov(const SourceGeometry& src, const ChargeOptions& o, Progress& progress, ChargeResult& r,
+                  std::unique_ptr<CollocationOperator>& op);
+void solve_robin_hood(const SourceGeometry& src, const ChargeOptions& o, Progress& progress, ChargeResult& r,
+                      std::unique_ptr<CollocationOperator>& op);
 void solve_dense_lu(const SourceGeometry& src, const ChargeOptions& o, Progress& progress, ChargeResult& r);
 
 }  // namespace soupuv::field

@@ -14,7 +14,7 @@ namespace soupuv::field {
 
 CollocationOperator::CollocationOperator(const SourceGeometry& sources, const FmmOptions& options,
                                          int cheap_order)
-    : src_(sources), threads_(options.threads > 0 ? options.threads : omp_get_max_threads()) {
+    : src_(sources), options_(options), threads_(options.threads > 0 ? options.threads : omp_get_max_threads()) {
   auto t0 = std::chrono::steady_clock::now();
   fmm_ = std::make_unique<Fmm>(src_, options, src_.centroid);
   if (cheap_order > 0 && cheap_order < options.order) {
@@ -45,7 +45,22 @@ CollocationOperator::CollocationOperator(const SourceGeometry& sources, const Fm
 }
 
 void CollocationOperator::apply(const std::vector<double>& q, std::vector<double>& phi, Accuracy accuracy) {
-  Fmm& f = (accuracy == Accuracy::cheap && cheap_) ? *cheap_ : *fmm_;
+  apply_with((accuracy == Accuracy::cheap && cheap_) ? *cheap_ : *fmm_, q, phi);
+}
+
+void CollocationOperator::apply_order(const std::vector<double>& q, std::vector<double>& phi, int order) {
+  if (order == options_.order) return apply_with(*fmm_, q, phi);
+  auto& far = by_order_[order];
+  if (!far) {
+    // Same options but the order: same tree and lists, so the near matrix fits.
+    FmmOptions o = options_;
+    o.order = order;
+    far = std::make_unique<Fmm>(src_, o, src_.centroid);
+  }
+  apply_with(*far, q, phi);
+}
+
+void CollocationOperator::apply_with(Fmm& f, const std::vector<double>& q, std::vector<double>& phi) const {
   f.set_charges(q);
   const long n = static_cast<long>(src_.size());
   phi.resize(n);
@@ -97,19 +112,24 @@ void LeafBlockPreconditioner::apply(const std::vector<double>& r, std::vector<do
 }
 
 double verify_potential(const SourceGeometry& sources, const std::vector<double>& q, size_t direct_max,
-                        int threads, std::string* method, double* mean_out) {
+                        int fmm_order, int threads, CollocationOperator* op, std::string* method,
+                        double* mean_out) {
   std::vector<double> phi;
   if (sources.size() <= direct_max) {
     direct_sum(sources, q, sources.centroid, &phi, nullptr, threads);
     if (method) *method = "direct";
   } else {
-    FmmOptions o;
-    o.order = 10;
-    o.theta = 0.4;
-    o.threads = threads;
-    CollocationOperator op(sources, o);
-    op.apply(q, phi);
-    if (method) *method = "fmm-p10-theta0.4";
+    std::unique_ptr<CollocationOperator> own;
+    if (!op) {
+      FmmOptions o;
+      o.order = fmm_order;
+      o.leaf_size = 64;
+      o.threads = threads;
+      own = std::make_unique<CollocationOperator>(sources, o);
+      op = own.get();
+    }
+    op->apply_order(q, phi, fmm_order);
+    if (method) *method = "fmm-p" + std::to_string(fmm_order) + "+near-matrix";
   }
   double mean = 0;
   for (double f : phi) mean += f;

@@ -64,8 +64,11 @@ struct ChargeOptions {
   // Triangles per block of the block-Jacobi preconditioner (source cells).
   int krylov_block_size = 128;
   // How the true error is re-evaluated: direct summation up to this many
-  // triangles, above it a high-order FMM (p = 14, theta = 0.3).
+  // triangles, above it an FMM of order verify_order (0: fmm_order + 2, at
+  // theta 0.5 about 10x below the solve's own FMM error) on the solver's
+  // tree, with the exact near pairs of its precomputed near matrix.
   size_t verify_direct_max = 20000;
+  int verify_order = 0;
 };
 
 struct ChargeResult {
