@@ -148,12 +148,52 @@ NarrowBand build_narrow_band(const TriangleBvh& bvh, const Box3& box, double off
     Box3 box;
     double radius;
     size_t begin, end;
+    uint32_t up;  // its own parent in `grandparents`
   };
-  std::vector<Parent> parents;
+  std::vector<Parent> parents, grandparents;
   std::vector<uint32_t> parent_of;  // per current cell
   // A query answering "hi" for every distance >= hi needs no triangle farther
   // than hi from the box: if the closest one is, every point's answer is hi.
   auto capped = [](double radius, double hi) { return std::min(radius, hi * (1 + 1e-9)); };
+  // Calls visit(p, list) for every parent p that `needs` a list, in
+  // parallel, with its candidate list for queries answering up to `hi`.
+  // Parents of one grandparent (contiguous, same `up`) share one BVH gather
+  // around the grandparent's box, narrowed per parent: a parent's radius is
+  // no larger than the largest of its run.
+  auto for_each_parent_list = [&](double hi, auto&& needs, auto&& visit) {
+    std::vector<size_t> runs;
+    for (size_t p = 0; p < parents.size(); ++p)
+      if (p == 0 || grandparents.empty() || parents[p].up != parents[p - 1].up) runs.push_back(p);
+    runs.push_back(parents.size());
+    const long n_runs = long(runs.size()) - 1;
+#pragma omp parallel
+    {
+      CandidateList shared, list;
+#pragma omp for schedule(dynamic, 4)
+      for (long r = 0; r < n_runs; ++r) {
+        double radius = 0;
+        size_t needed = 0, last = 0;
+        for (size_t p = runs[size_t(r)]; p < runs[size_t(r) + 1]; ++p)
+          if (needs(p)) {
+            radius = std::max(radius, capped(parents[p].radius, hi));
+            ++needed;
+            last = p;
+          }
+        if (needed == 0) continue;
+        if (needed == 1) {
+          bvh.gather(parents[last].box, capped(parents[last].radius, hi), list);
+          visit(last, list);
+          continue;
+        }
+        bvh.gather(grandparents[parents[runs[size_t(r)]].up].box, radius, shared);
+        for (size_t p = runs[size_t(r)]; p < runs[size_t(r) + 1]; ++p) {
+          if (!needs(p)) continue;
+          bvh.narrow(shared, parents[p].box, capped(parents[p].radius, hi), list);
+          visit(p, list);
+        }
+      }
+    }
+  };
   std::vector<double> distances;  // per current cell: d(center), exact when kept
 
   size_t evaluations = 0;
@@ -182,17 +222,12 @@ NarrowBand build_narrow_band(const TriangleBvh& bvh, const Box3& box, double off
     // (a list holds the triangles within about o of the box); above that a
     // BVH descent per center is cheaper than scanning a long list.
     if (!parents.empty() && 2 * size <= 2 * offset) {
-#pragma omp parallel
-      {
-        CandidateList list;
-#pragma omp for schedule(dynamic, 16)
-        for (long g = 0; g < long(parents.size()); ++g) {
-          const Parent& parent = parents[size_t(g)];
-          bvh.gather(parent.box, capped(parent.radius, hi), list);
-          for (size_t n = parent.begin; n < parent.end; ++n)
-            decide(n, bvh.distance_among(center_of(current[n], size), list, lo, hi, &hint[n]));
-        }
-      }
+      for_each_parent_list(
+          hi, [](size_t) { return true; },
+          [&](size_t p, const CandidateList& list) {
+            for (size_t n = parents[p].begin; n < parents[p].end; ++n)
+              decide(n, bvh.distance_among(center_of(current[n], size), list, lo, hi, &hint[n]));
+          });
     } else {
 #pragma omp parallel for schedule(dynamic, 256)
       for (long n = 0; n < long(current.size()); ++n)
@@ -228,7 +263,8 @@ NarrowBand build_narrow_band(const TriangleBvh& bvh, const Box3& box, double off
     const int child_size = 1 << (level - 1);
     for (size_t n = 0; n < current.size(); ++n) {
       if (!keep[n]) continue;
-      next_parents.push_back({box_of(current[n], size), (distances[n] + half_diagonal) * (1 + 1e-7), next.size(), 0});
+      next_parents.push_back({box_of(current[n], size), (distances[n] + half_diagonal) * (1 + 1e-7), next.size(), 0,
+                              parent_of.empty() ? 0u : parent_of[n]});
       auto c = grid_coords(current[n]);
       for (int dz = 0; dz < 2; ++dz)
         for (int dy = 0; dy < 2; ++dy)
@@ -245,6 +281,7 @@ NarrowBand build_narrow_band(const TriangleBvh& bvh, const Box3& box, double off
     current.swap(next);
     hint.swap(next_hint);
     parent_of.swap(next_parent);
+    grandparents.swap(parents);
     parents.swap(next_parents);
   }
 
@@ -312,27 +349,23 @@ NarrowBand build_narrow_band(const TriangleBvh& bvh, const Box3& box, double off
   const double corner_lo = offset - band_width, corner_hi = offset + band_width;
   std::vector<uint32_t> parent_hint(parents.size(), UINT32_MAX);
   for (size_t n = 0; n < current.size(); ++n) parent_hint[parent_of[n]] = hint[n];
-#pragma omp parallel
-  {
-    CandidateList list;
-#pragma omp for schedule(dynamic, 16)
-    for (long g = 0; g < long(parents.size()); ++g) {
-      bool any = false;
-      for (uint32_t s = slot_start[size_t(g)]; s < slot_start[size_t(g) + 1]; ++s) any |= owns[s] != 0;
-      if (!any) continue;
-      bvh.gather(parents[size_t(g)].box, capped(parents[size_t(g)].radius, corner_hi), list);
-      auto o = grid_coords(parent_origin[size_t(g)]);
-      uint32_t warm = parent_hint[size_t(g)];
-      for (int bit = 0; bit < 27; ++bit) {
-        if (!(mask[size_t(g)] >> bit & 1)) continue;
-        uint32_t s = slot_of(uint32_t(g), bit);
-        if (!owns[s]) continue;
-        uint64_t key = grid_key(o[0] + bit % 3, o[1] + (bit / 3) % 3, o[2] + bit / 9);
-        double d = bvh.distance_among(band.corner_position(key), list, corner_lo, corner_hi, &warm);
-        band.corner_values[corner_of_slot[s]] = d - offset;
-      }
-    }
-  }
+  std::vector<char> owner(parents.size(), 0);
+  for (size_t g = 0; g < parents.size(); ++g)
+    for (uint32_t slot = slot_start[g]; slot < slot_start[g + 1]; ++slot) owner[g] |= owns[slot];
+  for_each_parent_list(
+      corner_hi, [&](size_t g) { return owner[g] != 0; },
+      [&](size_t g, const CandidateList& list) {
+        auto o = grid_coords(parent_origin[g]);
+        uint32_t warm = parent_hint[g];
+        for (int bit = 0; bit < 27; ++bit) {
+          if (!(mask[g] >> bit & 1)) continue;
+          uint32_t slot = slot_of(uint32_t(g), bit);
+          if (!owns[slot]) continue;
+          uint64_t key = grid_key(o[0] + bit % 3, o[1] + (bit / 3) % 3, o[2] + bit / 9);
+          double d = bvh.distance_among(band.corner_position(key), list, corner_lo, corner_hi, &warm);
+          band.corner_values[corner_of_slot[slot]] = d - offset;
+        }
+      });
   // Leaves: the candidates whose corners change sign; the others hold no
   // surface. Their unused corners stay (harmless, and lookups stay simple).
   std::vector<std::array<uint32_t, 8>> corners_of(current.size());

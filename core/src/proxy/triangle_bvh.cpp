@@ -75,6 +75,31 @@ bool ray_hits_box(const Box3& box, Vec3 p, Vec3 inv_dir) {
   return true;
 }
 
+// GCC/Clang vector extensions: four floats per operation on any x86-64
+// (SSE2) without -march flags; the compiler does not vectorise the scalar
+// form of the candidate scans by itself (max with NaN semantics).
+typedef float Float4 __attribute__((vector_size(16)));
+Float4 load4(const float* at) {
+  Float4 v;
+  __builtin_memcpy(&v, at, sizeof v);
+  return v;
+}
+Float4 splat(float x) { return Float4{x, x, x, x}; }
+
+// Fills entries [count, next multiple of kBlock) with padding: boxes 1e30
+// away, whose lower bound overflows to +inf and never passes a test.
+size_t padded_size(size_t count) {
+  return (count + CandidateList::kBlock - 1) / CandidateList::kBlock * CandidateList::kBlock;
+}
+void pad(CandidateList& list, size_t count) {
+  for (size_t n = count; n < padded_size(count); ++n) {
+    list.ids[n] = UINT32_MAX;
+    list.lo_x[n] = list.lo_y[n] = list.lo_z[n] = 1e30f;
+    list.hi_x[n] = list.hi_y[n] = list.hi_z[n] = -1e30f;
+    list.n_x[n] = list.n_y[n] = list.n_z[n] = list.w[n] = 0;
+  }
+}
+
 // The caller's guess (`best`, e.g. the closest triangle of a neighbouring
 // query) tightens the search radius before any traversal; a guess that is
 // not closer than `best2` is dropped. True when it is already below lo2.
@@ -146,13 +171,13 @@ void TriangleBvh::gather(const Box3& box, double radius, CandidateList& out) con
     stack[top++] = node.first;
     stack[top++] = static_cast<uint32_t>(&node - nodes_.data()) + 1;
   }
+  fill_boxes(out);
+}
+
+void TriangleBvh::fill_boxes(CandidateList& out) const {
   out.count = out.ids.size();
-  const size_t padded = (out.count + CandidateList::kBlock - 1) / CandidateList::kBlock * CandidateList::kBlock;
-  // Padding boxes lie 1e30 away: their lower bound overflows to +inf and
-  // never passes the strict test below.
-  out.ids.resize(padded, UINT32_MAX);
-  for (auto* v : {&out.lo_x, &out.lo_y, &out.lo_z}) v->resize(padded, 1e30f);
-  for (auto* v : {&out.hi_x, &out.hi_y, &out.hi_z}) v->resize(padded, -1e30f);
+  out.ids.resize(padded_size(out.count));
+  for (auto* v : out.arrays()) v->resize(padded_size(out.count));
   float extent = 0;
   for (size_t n = 0; n < out.count; ++n) {
     const Box3& b = tri_boxes_[out.ids[n]];
@@ -161,8 +186,65 @@ void TriangleBvh::gather(const Box3& box, double radius, CandidateList& out) con
     out.hi_x[n] = float(hi.x), out.hi_y[n] = float(hi.y), out.hi_z[n] = float(hi.z);
     extent = std::max({extent, std::fabs(out.lo_x[n]), std::fabs(out.lo_y[n]), std::fabs(out.lo_z[n]),
                        std::fabs(out.hi_x[n]), std::fabs(out.hi_y[n]), std::fabs(out.hi_z[n])});
+    const auto& t = tris_[out.ids[n]];
+    Vec3 normal = cross(t[1] - t[0], t[2] - t[0]);
+    double len = norm(normal);
+    normal = len > 0 && std::isfinite(len) ? normal / len : Vec3{0, 0, 0};
+    out.n_x[n] = float(normal.x), out.n_y[n] = float(normal.y), out.n_z[n] = float(normal.z);
+    out.w[n] = float(dot(normal, t[0] - out.center));
   }
+  pad(out, out.count);
   out.extent = extent;
+}
+
+void TriangleBvh::narrow(const CandidateList& from, const Box3& box, double radius, CandidateList& out) const {
+  // Same local origin as `from`: the float boxes are copied, not re-rounded.
+  out.clear(from.center);
+  const Vec3 lo = box.lo - from.center, hi = box.hi - from.center;
+  // Rounding slack as in distance_among: a candidate is dropped only when its
+  // box is certainly farther than `radius` from `box`.
+  const double scale = std::max({double(from.extent), std::fabs(lo.x), std::fabs(lo.y), std::fabs(lo.z),
+                                 std::fabs(hi.x), std::fabs(hi.y), std::fabs(hi.z)});
+  const double r = radius + scale * 0x1p-18;
+  const float limit = float(r * r * (1 + 1e-6));
+  const Float4 x0 = splat(float(lo.x)), y0 = splat(float(lo.y)), z0 = splat(float(lo.z));
+  const Float4 x1 = splat(float(hi.x)), y1 = splat(float(hi.y)), z1 = splat(float(hi.z));
+  auto axis = [](Float4 tri_lo, Float4 tri_hi, Float4 box_lo, Float4 box_hi) {
+    Float4 below = tri_lo - box_hi, above = box_lo - tri_hi;
+    Float4 e = below > above ? below : above;
+    e = e > splat(0) ? e : splat(0);
+    return e * e;
+  };
+  // Written in place (sized for all of `from`, cut to the kept count plus
+  // padding at the end): no push_back in the loop.
+  const size_t capacity = from.ids.size() + CandidateList::kBlock;
+  out.ids.resize(capacity);
+  for (auto* v : out.arrays()) v->resize(capacity);
+  size_t kept = 0;
+  float bound[CandidateList::kBlock];
+  for (size_t s = 0; s < from.ids.size(); s += CandidateList::kBlock) {
+    for (size_t k = 0; k < CandidateList::kBlock; k += 4) {
+      Float4 b = axis(load4(&from.lo_x[s + k]), load4(&from.hi_x[s + k]), x0, x1) +
+                 axis(load4(&from.lo_y[s + k]), load4(&from.hi_y[s + k]), y0, y1) +
+                 axis(load4(&from.lo_z[s + k]), load4(&from.hi_z[s + k]), z0, z1);
+      __builtin_memcpy(&bound[k], &b, sizeof b);
+    }
+    for (size_t k = 0; k < CandidateList::kBlock; ++k) {
+      if (!(bound[k] <= limit)) continue;
+      const size_t n = s + k;
+      out.ids[kept] = from.ids[n];
+      out.lo_x[kept] = from.lo_x[n], out.lo_y[kept] = from.lo_y[n], out.lo_z[kept] = from.lo_z[n];
+      out.hi_x[kept] = from.hi_x[n], out.hi_y[kept] = from.hi_y[n], out.hi_z[kept] = from.hi_z[n];
+      out.n_x[kept] = from.n_x[n], out.n_y[kept] = from.n_y[n], out.n_z[kept] = from.n_z[n];
+      out.w[kept] = from.w[n];
+      ++kept;
+    }
+  }
+  out.count = kept;
+  out.extent = from.extent;
+  pad(out, kept);
+  out.ids.resize(padded_size(kept));
+  for (auto* v : out.arrays()) v->resize(padded_size(kept));
 }
 
 double TriangleBvh::distance_among(Vec3 p, const CandidateList& list, double lo, double hi,
@@ -176,8 +258,8 @@ double TriangleBvh::distance_among(Vec3 p, const CandidateList& list, double lo,
   };
   if (warm_start(tris_, p, lo2, best2, best)) return done(std::sqrt(best2));
   const float px = float(p.x - list.center.x), py = float(p.y - list.center.y), pz = float(p.z - list.center.z);
-  // Float rounding of a box distance is below 2^-21 of the largest local
-  // coordinate involved; 2^-18 of it as slack keeps every skip certain.
+  // Float rounding of a box or plane distance is below 2^-21 of the largest
+  // local coordinate involved; 2^-18 of it as slack keeps every skip certain.
   const double slack = std::max({double(list.extent), std::fabs(double(px)), std::fabs(double(py)),
                                  std::fabs(double(pz))}) * 0x1p-18;
   auto threshold = [&] {
@@ -186,31 +268,25 @@ double TriangleBvh::distance_among(Vec3 p, const CandidateList& list, double lo,
     return b * b * (1 + 1e-6);
   };
   float limit = float(threshold());
-  // GCC/Clang vector extensions: four floats per operation on any x86-64
-  // (SSE2) without -march flags; the compiler does not vectorise the scalar
-  // form of this loop by itself (max with NaN semantics).
-  typedef float Float4 __attribute__((vector_size(16)));
-  auto load = [](const float* at) {
-    Float4 v;
-    __builtin_memcpy(&v, at, sizeof v);
-    return v;
-  };
   auto axis = [](Float4 lo, Float4 hi, Float4 q) {
     Float4 below = lo - q, above = q - hi;
     Float4 e = below > above ? below : above;
-    Float4 zero = {0, 0, 0, 0};
-    e = e > zero ? e : zero;
+    e = e > splat(0) ? e : splat(0);
     return e * e;
   };
-  const Float4 qx = {px, px, px, px}, qy = {py, py, py, py}, qz = {pz, pz, pz, pz};
+  const Float4 qx = splat(px), qy = splat(py), qz = splat(pz);
   float bound[CandidateList::kBlock];
   for (size_t s = 0; s < list.ids.size(); s += CandidateList::kBlock) {
     // Lower bounds for a block, then the rare candidates that could be
     // closer get the exact test.
     for (size_t k = 0; k < CandidateList::kBlock; k += 4) {
-      Float4 b = axis(load(&list.lo_x[s + k]), load(&list.hi_x[s + k]), qx) +
-                 axis(load(&list.lo_y[s + k]), load(&list.hi_y[s + k]), qy) +
-                 axis(load(&list.lo_z[s + k]), load(&list.hi_z[s + k]), qz);
+      Float4 b = axis(load4(&list.lo_x[s + k]), load4(&list.hi_x[s + k]), qx) +
+                 axis(load4(&list.lo_y[s + k]), load4(&list.hi_y[s + k]), qy) +
+                 axis(load4(&list.lo_z[s + k]), load4(&list.hi_z[s + k]), qz);
+      Float4 plane = load4(&list.n_x[s + k]) * qx + load4(&list.n_y[s + k]) * qy +
+                     load4(&list.n_z[s + k]) * qz - load4(&list.w[s + k]);
+      plane = plane * plane;
+      b = b > plane ? b : plane;
       __builtin_memcpy(&bound[k], &b, sizeof b);
     }
     for (size_t k = 0; k < CandidateList::kBlock; ++k) {

@@ -10,10 +10,15 @@
 // over a block (4 candidates per SSE instruction) instead of one branchy
 // double test per candidate; only the few candidates whose box is closer than
 // the best distance so far get the exact double point-triangle distance.
-// `slack` bounds the float rounding of a box distance, so a candidate is
-// skipped only when its box is certainly farther than the best distance.
+// Besides its box, each candidate has its plane (unit normal n, w = n . a in
+// local coordinates): |n . p - w| is a second lower bound of the distance,
+// much tighter than the box for a tilted triangle seen from above, which is
+// how the grid points see the soup (measured on the 100k noisy sphere: the
+// box alone let ~12 of ~90 candidates through to the exact test).
+// The rounding slack (see distance_among) keeps every skip certain.
 #pragma once
 
+#include <array>
 #include <cstdint>
 #include <vector>
 
@@ -28,16 +33,18 @@ struct CandidateList {
   float extent = 0;      // max |local coordinate| stored (for the rounding slack)
   std::vector<uint32_t> ids;  // triangle ids; padding entries are UINT32_MAX
   std::vector<float> lo_x, lo_y, lo_z, hi_x, hi_y, hi_z;
+  std::vector<float> n_x, n_y, n_z, w;  // planes; 0 for degenerate triangles
   size_t count = 0;      // real candidates (ids.size() is padded)
 
   void clear(Vec3 local_origin) {
     center = local_origin;
     extent = 0;
     count = 0;
-    for (auto* v : {&lo_x, &lo_y, &lo_z, &hi_x, &hi_y, &hi_z}) v->clear();
+    for (auto* v : arrays()) v->clear();
     ids.clear();
   }
   size_t size() const { return count; }
+  std::array<std::vector<float>*, 10> arrays() { return {&lo_x, &lo_y, &lo_z, &hi_x, &hi_y, &hi_z, &n_x, &n_y, &n_z, &w}; }
 };
 
 }  // namespace soupuv::proxy

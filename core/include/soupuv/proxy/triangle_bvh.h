@@ -52,6 +52,11 @@ class TriangleBvh {
   // so distance_among over it is exact there (nearest-candidate culling).
   void gather(const Box3& box, double radius, CandidateList& out) const;
 
+  // The same list for a `box` inside the box `from` was gathered for, with a
+  // `radius` no larger than from's, picked out of `from` (a float scan of its
+  // boxes) instead of a BVH descent: a parent's list serves its children.
+  void narrow(const CandidateList& from, const Box3& box, double radius, CandidateList& out) const;
+
   // distance() restricted to the candidates of `list` (from gather), same
   // answer semantics; exact for points whose closest triangle is among them.
   double distance_among(Vec3 p, const CandidateList& list, double lo = 0, double hi = INFINITY,
@@ -72,6 +77,7 @@ class TriangleBvh {
     uint32_t count = 0;  // leaf: triangle count; inner: 0 (left child is next)
   };
   void build();
+  void fill_boxes(CandidateList& out) const;
   uint32_t build_node(uint32_t first, uint32_t count, int depth);
 
   std::vector<std::array<Vec3, 3>> tris_;
