@@ -6,7 +6,8 @@
 // midpoint method. The step shrinks near the surface to half the distance to
 // the nearest near-rule triangle (never below eps), so a line cannot jump
 // through a nearby face; lines stop outside the stop sphere, at the step
-// limit, or where |E| vanishes.
+// limit, where |E| vanishes, or when trapped: crawling along the surface at
+// the step floor for options.trapped_steps steps in a row.
 //
 // All lines advance together, one step at a time: every field evaluation of a
 // step is one batch, sorted by FMM target leaf, so the points that share a
@@ -227,6 +228,10 @@ FieldLines trace_field_lines(const ChargeResult& charges, const std::vector<Trac
     lines[s].push_back(pos[s]);
   }
   std::vector<double> nearest;
+  // Trapped lines (options.trapped_steps): per line, how many steps in a row
+  // it has been within 2 eps of the soup (where the step is the floor eps).
+  const bool detect_trapped = options.adaptive_step && options.trapped_steps > 0;
+  std::vector<int> crawl(n, 0);
   for (int k = 0; k < options.max_steps && !active.empty(); ++k) {
     progress.update("trace", 0.05 + 0.9 * k / double(options.max_steps));
     const size_t na = active.size();
@@ -247,6 +252,13 @@ FieldLines trace_field_lines(const ChargeResult& charges, const std::vector<Trac
         continue;
       }
       h[a] = options.adaptive_step ? std::min(step, std::max(eps, 0.5 * nearest[a])) : step;
+      if (!detect_trapped) continue;
+      const long s = active[a];
+      crawl[s] = nearest[a] < 2 * eps ? crawl[s] + 1 : 0;
+      if (crawl[s] >= options.trapped_steps) {
+        ends[s] = LineEnd::trapped;
+        h[a] = 0;
+      }
     }
     if (midpoint) {
       for (size_t a = 0; a < na; ++a)
@@ -267,7 +279,7 @@ FieldLines trace_field_lines(const ChargeResult& charges, const std::vector<Trac
     size_t kept = 0;
     for (size_t a = 0; a < na; ++a) {
       const long s = active[a];
-      if (!(h[a] > 0)) continue;  // stalled
+      if (!(h[a] > 0)) continue;  // stalled or trapped
       pos[s] = pos[s] + (h[a] / norm(E[a])) * E[a];
       ++steps_total;
       if (options.keep_points) lines[s].push_back(pos[s]);
@@ -298,11 +310,12 @@ FieldLines trace_field_lines(const ChargeResult& charges, const std::vector<Trac
     stats->build_seconds = build_seconds;
     stats->evaluations = evaluations;
     stats->steps = steps_total;
-    stats->escaped = stats->step_limit = stats->stalled = 0;
+    stats->escaped = stats->step_limit = stats->stalled = stats->trapped = 0;
     for (LineEnd e : out.ends) {
       if (e == LineEnd::escaped) ++stats->escaped;
       else if (e == LineEnd::step_limit) ++stats->step_limit;
-      else ++stats->stalled;
+      else if (e == LineEnd::stalled) ++stats->stalled;
+      else ++stats->trapped;
     }
   }
   progress.update("trace", 1.0);

@@ -14,6 +14,7 @@ enum class LineEnd : uint8_t {
   escaped = 0,     // left the bounding sphere (the normal end)
   step_limit = 1,  // ran out of steps
   stalled = 2,     // |E| vanished (e.g. inside a closed part)
+  trapped = 3,     // crawled along the surface (TraceOptions::trapped_steps)
 };
 
 struct FieldLines {
