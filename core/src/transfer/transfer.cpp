@@ -29,7 +29,11 @@ SurfacePoint land_line(const TriangleBvh& bvh, const field::FieldLines& lines, s
     hit = bvh.first_hit(lines.points[j], lines.points[j + 1]);
   how = Landing::hit;
   if (hit.found()) return hit;
-  if (e - b >= 2) {
+  // A trapped line crawled along the soup: its last direction is tangent to
+  // the surface, so a ray along it lands anywhere; the closest point is the
+  // honest guess.
+  const bool trapped = i < lines.ends.size() && lines.ends[i] == field::LineEnd::trapped;
+  if (e - b >= 2 && !trapped) {
     Vec3 last = lines.points[e - 1];
     Vec3 dir = normalized(last - lines.points[e - 2]);
     hit = bvh.first_hit(last, last + ray_length * dir);

@@ -10,7 +10,9 @@
 // Fallback for a line that never crosses the proxy (trapped inside a closed
 // part, step limit, stalled): first a ray from its last point along its last
 // direction (a line cut short by the step limit is still heading outward);
-// if that misses too, the proxy point closest to the corner itself. A corner
+// if that misses too, the proxy point closest to the corner itself. A line
+// that ended trapped (it crawled along the soup) goes to the closest point
+// at once: its last direction is tangent to the surface. A corner
 // without a line gets the closest proxy point. Both are counted.
 #pragma once
 

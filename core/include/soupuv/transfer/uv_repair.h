@@ -1,0 +1,75 @@
+// Local UV repair: a documented post-process after transfer + chart fix
+// (not part of the paper's method; switch it off with MapOptions::uv_repair).
+//
+// The field-line map is good almost everywhere (median stretch ~1.05-1.25),
+// but where lines converge at concave creases or miss the proxy a few UV
+// triangles collapse to slivers or fold over, and they carry nearly all of
+// the L2 stretch and all flips. This re-places only the UVs around them.
+//
+// Input : the soup; a weld (corner -> welded vertex); the chart of every soup
+//         triangle (after §8 all its corners are on one chart); the atlas's
+//         global texel scale (UV units per 3D length); corner UVs.
+// Output: corner UVs where the welded vertices of bad triangles (flipped,
+//         collapsed, or stretched far beyond the median) were moved, and
+//         counts. Every other corner keeps its UV bit for bit.
+//
+// Method: a "UV vertex" is a (welded vertex, chart) pair. The UV vertices of
+// bad triangles that touch each other form a patch; its triangles are every
+// soup triangle on that chart using one of them, and all their other UV
+// vertices stay fixed (each fixed corner keeps its own UV). Start from a
+// flip-free placement: the free vertices at the mean of their copies, or if
+// that folds, a Tutte embedding (uniform weights) inside the fixed ones;
+// if both fold, grow the patch by one ring and try again (max_growth times).
+// Then minimise the symmetric Dirichlet energy of the patch's triangles
+// against their own 3D shape at the global scale (isometric = minimum; it is
+// infinite for a collapsed or flipped triangle, so a line search that keeps
+// every triangle's orientation keeps the map injective on the patch), by
+// preconditioned block coordinate descent, one free vertex at a time. A patch
+// is written back only if its energy went down and nothing in it is flipped.
+// Cost  : O(patch size x sweeps) per patch; patches are small and disjoint.
+#pragma once
+
+#include <array>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "soupuv/progress.h"
+#include "soupuv/quality/weld.h"
+#include "soupuv/soup.h"
+
+namespace soupuv::transfer {
+
+struct UvRepairOptions {
+  // A triangle is bad when its UV orientation is against the dominant one,
+  // when its UV area collapsed, when its L2 stretch (Sander et al., UV onto
+  // surface, at the global scale) exceeds stretch_threshold x the
+  // area-weighted median, or when it is enlarged along some direction by
+  // more than expansion_threshold (the largest singular value of the
+  // surface -> UV map at the global scale).
+  double stretch_threshold = 2.0;
+  double expansion_threshold = 4.0;
+  int max_growth = 3;                // rings added to a patch with no flip-free start
+  int max_sweeps = 100;              // coordinate-descent sweeps per patch
+  size_t max_patch_vertices = 4000;  // larger patches are left alone (counted)
+};
+
+struct UvRepairResult {
+  size_t bad_triangles = 0;        // before the repair
+  size_t bad_triangles_after = 0;
+  size_t patches = 0;
+  size_t repaired_patches = 0;     // written back
+  size_t failed_patches = 0;       // no flip-free start, too large, or no gain
+  size_t repaired_vertices = 0;    // UV vertices (welded vertex, chart) moved
+  size_t repaired_triangles = 0;   // soup triangles with a moved corner
+  double seconds = 0;
+  nlohmann::json diagnostics() const;
+};
+
+UvRepairResult repair_uvs(const Soup& soup, const quality::Weld& weld,
+                          const std::vector<int>& triangle_chart, double uv_per_length,
+                          std::vector<std::array<Vec2, 3>>& corner_uvs,
+                          const UvRepairOptions& options = {},
+                          Progress& progress = Progress::none());
+
+}  // namespace soupuv::transfer

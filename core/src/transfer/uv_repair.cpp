@@ -1,0 +1,356 @@
+#include "soupuv/transfer/uv_repair.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <limits>
+#include <numeric>
+#include <unordered_map>
+
+#include "soupuv/errors.h"
+#include "transfer/sym_dirichlet.h"
+
+namespace soupuv::transfer {
+
+nlohmann::json UvRepairResult::diagnostics() const {
+  return {{"bad_triangles", bad_triangles},
+          {"bad_triangles_after", bad_triangles_after},
+          {"patches", patches},
+          {"repaired_patches", repaired_patches},
+          {"failed_patches", failed_patches},
+          {"repaired_vertices", repaired_vertices},
+          {"repaired_triangles", repaired_triangles},
+          {"seconds", seconds}};
+}
+
+namespace {
+
+using detail::RestTriangle;
+constexpr double kInf = std::numeric_limits<double>::infinity();
+constexpr uint32_t kFixed = UINT32_MAX;
+
+double signed_area2(const std::array<Vec2, 3>& uv) { return cross(uv[1] - uv[0], uv[2] - uv[0]); }
+
+bool in_unit_square(Vec2 p) { return p.x >= 0 && p.x <= 1 && p.y >= 0 && p.y <= 1; }
+
+// The UV vertices: one per (welded vertex, chart), with the corners that use
+// each (CSR), so a patch can find every triangle around a vertex.
+struct UvVertices {
+  std::vector<uint32_t> of_corner;  // corner -> UV vertex
+  std::vector<uint32_t> start, corners;
+  size_t count() const { return start.size() - 1; }
+};
+
+UvVertices uv_vertices(const quality::Weld& weld, const std::vector<int>& triangle_chart) {
+  UvVertices v;
+  const size_t corners = weld.corner_vertex.size();
+  v.of_corner.resize(corners);
+  std::unordered_map<uint64_t, uint32_t> id;
+  id.reserve(corners);
+  for (size_t c = 0; c < corners; ++c) {
+    const uint64_t key = (uint64_t(weld.corner_vertex[c]) << 32) | uint32_t(triangle_chart[c / 3]);
+    auto [it, fresh] = id.try_emplace(key, uint32_t(id.size()));
+    v.of_corner[c] = it->second;
+  }
+  v.start.assign(id.size() + 1, 0);
+  for (uint32_t u : v.of_corner) ++v.start[u + 1];
+  std::partial_sum(v.start.begin(), v.start.end(), v.start.begin());
+  std::vector<uint32_t> fill(v.start.begin(), v.start.end() - 1);
+  v.corners.resize(corners);
+  for (size_t c = 0; c < corners; ++c) v.corners[fill[v.of_corner[c]]++] = uint32_t(c);
+  return v;
+}
+
+// Which triangles need repair (see UvRepairOptions).
+std::vector<uint8_t> find_bad(const std::vector<RestTriangle>& rest,
+                              const std::vector<std::array<Vec2, 3>>& uvs,
+                              const UvRepairOptions& o) {
+  const size_t n = rest.size();
+  std::vector<double> stretch(n, kInf), expansion(n, 0);
+  struct Weighted { double value, area; };
+  std::vector<Weighted> finite;
+  for (size_t t = 0; t < n; ++t) {
+    if (!rest[t].valid) continue;
+    const detail::Jacobian J = detail::jacobian(rest[t], uvs[t]);
+    const double d = J.det();
+    if (!(d > 0)) continue;  // flipped or collapsed: stretch stays infinite
+    // Singular values of J (surface -> UV at the global scale); Sander's L2
+    // stretch of the inverse map is sqrt((1/s1^2 + 1/s2^2) / 2).
+    const double f = J.frobenius2();
+    const double root = std::sqrt(std::max(0.0, f * f - 4 * d * d));
+    const double s1sq = 0.5 * (f + root), s2sq = std::max(0.5 * (f - root), d * d / s1sq);
+    stretch[t] = std::sqrt(0.5 * (1 / s1sq + 1 / s2sq));
+    expansion[t] = std::sqrt(s1sq);
+    finite.push_back({stretch[t], rest[t].area});
+  }
+  double median = 1;
+  if (!finite.empty()) {
+    std::sort(finite.begin(), finite.end(), [](auto& a, auto& b) { return a.value < b.value; });
+    double total = 0, below = 0;
+    for (auto& w : finite) total += w.area;
+    for (auto& w : finite) {
+      below += w.area;
+      if (below >= 0.5 * total) { median = w.value; break; }
+    }
+  }
+  std::vector<uint8_t> bad(n, 0);
+  for (size_t t = 0; t < n; ++t)
+    bad[t] = rest[t].valid && (stretch[t] > o.stretch_threshold * median ||
+                               expansion[t] > o.expansion_threshold);
+  return bad;
+}
+
+// One patch: free UV vertices, the triangles around them, and their corners
+// as either a free vertex (local index) or a fixed corner UV.
+class Patch {
+ public:
+  Patch(const std::vector<uint32_t>& free_vertices, const UvVertices& verts,
+        const std::vector<RestTriangle>& rest, const std::vector<std::array<Vec2, 3>>& uvs)
+      : free_(free_vertices), rest_(rest), uvs_(uvs) {
+    std::unordered_map<uint32_t, uint32_t> local;
+    for (size_t i = 0; i < free_.size(); ++i) local[free_[i]] = uint32_t(i);
+    std::vector<uint32_t> tris;
+    for (uint32_t v : free_)
+      for (uint32_t e = verts.start[v]; e < verts.start[v + 1]; ++e) tris.push_back(verts.corners[e] / 3);
+    std::sort(tris.begin(), tris.end());
+    tris.erase(std::unique(tris.begin(), tris.end()), tris.end());
+    triangles_ = tris;
+    slot_.resize(tris.size());
+    around_.resize(free_.size());
+    for (size_t i = 0; i < tris.size(); ++i)
+      for (int k = 0; k < 3; ++k) {
+        auto it = local.find(verts.of_corner[3 * tris[i] + k]);
+        slot_[i][k] = it == local.end() ? kFixed : it->second;
+        if (it != local.end()) around_[it->second].push_back({uint32_t(i), uint8_t(k)});
+      }
+    uv_.assign(free_.size(), Vec2{0, 0});
+  }
+
+  const std::vector<uint32_t>& triangles() const { return triangles_; }
+  const std::vector<uint32_t>& free_vertices() const { return free_; }
+  Vec2 uv(size_t i) const { return uv_[i]; }
+
+  // The patch triangles' corner UVs with the free vertices at uv_.
+  std::array<Vec2, 3> corners(size_t i) const {
+    std::array<Vec2, 3> c = uvs_[triangles_[i]];
+    for (int k = 0; k < 3; ++k)
+      if (slot_[i][k] != kFixed) c[k] = uv_[slot_[i][k]];
+    return c;
+  }
+
+  double energy_of(size_t i) const {
+    return rest_[triangles_[i]].valid ? detail::energy(rest_[triangles_[i]], corners(i)) : 0.0;
+  }
+  double energy() const {
+    double e = 0;
+    for (size_t i = 0; i < triangles_.size(); ++i) e += energy_of(i);
+    return e;
+  }
+  // The energy before the repair (the corners' own UVs).
+  double original_energy() const {
+    double e = 0;
+    for (uint32_t t : triangles_) e += rest_[t].valid ? detail::energy(rest_[t], uvs_[t]) : 0.0;
+    return e;
+  }
+
+  // Start 1: each free vertex at the mean of its copies' UVs.
+  void start_at_copies() {
+    for (size_t i = 0; i < free_.size(); ++i) {
+      Vec2 sum{0, 0};
+      for (auto [tri, k] : around_[i]) sum = sum + uvs_[triangles_[tri]][k];
+      uv_[i] = (1.0 / double(around_[i].size())) * sum;
+    }
+  }
+
+  // Start 2: Tutte's embedding with uniform weights — each free vertex at
+  // the mean of its neighbours, the fixed corners held at their own UVs —
+  // solved by Gauss-Seidel. Flip-free when the fixed boundary is convex.
+  void start_tutte(int iterations) {
+    start_at_copies();
+    for (int it = 0; it < iterations; ++it) {
+      double moved = 0;
+      for (size_t i = 0; i < free_.size(); ++i) {
+        Vec2 sum{0, 0};
+        double count = 0;
+        for (auto [tri, k] : around_[i]) {
+          const std::array<Vec2, 3> c = corners(tri);
+          for (int j = 1; j <= 2; ++j) sum = sum + c[(k + j) % 3];
+          count += 2;
+        }
+        const Vec2 next = (1.0 / count) * sum;
+        moved = std::max(moved, norm(next - uv_[i]));
+        uv_[i] = next;
+      }
+      if (moved < 1e-12) break;
+    }
+  }
+
+  // Coordinate descent on the symmetric Dirichlet energy, one free vertex at
+  // a time, with a backtracking line search that never accepts a flip (the
+  // energy is infinite there) nor a UV outside [0,1]^2.
+  void minimise(int sweeps) {
+    double total = energy();
+    for (int s = 0; s < sweeps; ++s) {
+      double before = total;
+      for (size_t i = 0; i < free_.size(); ++i) {
+        Vec2 grad{0, 0};
+        double curvature = 0, local = 0;
+        for (auto [tri, k] : around_[i]) {
+          const RestTriangle& r = rest_[triangles_[tri]];
+          if (!r.valid) continue;
+          Vec2 g;
+          double c;
+          const auto uv = corners(tri);
+          detail::gradient(r, uv, k, g, c);
+          grad = grad + g;
+          curvature += c;
+          local += detail::energy(r, uv);
+        }
+        if (!(curvature > 0) || !(norm(grad) > 0)) continue;
+        const Vec2 old = uv_[i];
+        const Vec2 step = (-1.0 / curvature) * grad;
+        auto local_energy = [&](Vec2 p) {
+          if (!in_unit_square(p)) return kInf;
+          uv_[i] = p;
+          double e = 0;
+          for (auto [tri, k] : around_[i]) e += energy_of(tri);
+          return e;
+        };
+        double alpha = 1, best = local;
+        Vec2 best_p = old;
+        for (int h = 0; h < 30; ++h, alpha *= 0.5) {
+          const double e = local_energy(old + alpha * step);
+          if (e < best) { best = e; best_p = old + alpha * step; break; }
+        }
+        // A full step that worked may be too timid (the curvature estimate
+        // is an upper bound near the barrier): try doubling it.
+        if (alpha == 1 && best < local)
+          for (double grow = 2; grow <= 16; grow *= 2) {
+            const double e = local_energy(old + grow * step);
+            if (!(e < best)) break;
+            best = e;
+            best_p = old + grow * step;
+          }
+        uv_[i] = best_p;
+        total += best - local;
+      }
+      if (!(before - total > 1e-9 * before)) break;
+    }
+  }
+
+ private:
+  struct Use { uint32_t tri; uint8_t k; };
+  std::vector<uint32_t> free_;
+  const std::vector<RestTriangle>& rest_;
+  const std::vector<std::array<Vec2, 3>>& uvs_;
+  std::vector<uint32_t> triangles_;
+  std::vector<std::array<uint32_t, 3>> slot_;
+  std::vector<std::vector<Use>> around_;
+  std::vector<Vec2> uv_;
+};
+
+struct UnionFind {
+  std::vector<uint32_t> parent;
+  explicit UnionFind(size_t n) : parent(n) { std::iota(parent.begin(), parent.end(), 0u); }
+  uint32_t find(uint32_t x) {
+    while (parent[x] != x) x = parent[x] = parent[parent[x]];
+    return x;
+  }
+  void unite(uint32_t a, uint32_t b) { parent[find(a)] = find(b); }
+};
+
+}  // namespace
+
+UvRepairResult repair_uvs(const Soup& soup, const quality::Weld& weld,
+                          const std::vector<int>& triangle_chart, double uv_per_length,
+                          std::vector<std::array<Vec2, 3>>& uvs, const UvRepairOptions& options,
+                          Progress& progress) {
+  const auto t0 = std::chrono::steady_clock::now();
+  const size_t n = soup.triangles.size();
+  if (uvs.size() != n || triangle_chart.size() != n || weld.corner_vertex.size() != 3 * n)
+    throw Error(ErrorCode::internal, "uv repair: sizes of soup, weld, charts and UVs differ");
+  UvRepairResult r;
+  if (n == 0 || !(uv_per_length > 0)) return r;
+  progress.update("uv repair", 0);
+
+  // The orientation a continuous map gives the soup's winding: the dominant one.
+  double oriented = 0;
+  for (const auto& uv : uvs) oriented += signed_area2(uv);
+  const double orientation = oriented >= 0 ? 1 : -1;
+  std::vector<RestTriangle> rest(n);
+  for (size_t t = 0; t < n; ++t)
+    rest[t] = detail::rest_triangle(soup.corner(t, 0), soup.corner(t, 1), soup.corner(t, 2),
+                                    uv_per_length, orientation);
+
+  const std::vector<uint8_t> bad = find_bad(rest, uvs, options);
+  r.bad_triangles = size_t(std::count(bad.begin(), bad.end(), 1));
+  const UvVertices verts = uv_vertices(weld, triangle_chart);
+
+  // Patches: the UV vertices of bad triangles, joined through those triangles.
+  UnionFind uf(verts.count());
+  std::vector<uint8_t> in_patch(verts.count(), 0);
+  for (size_t t = 0; t < n; ++t) {
+    if (!bad[t]) continue;
+    for (int k = 0; k < 3; ++k) in_patch[verts.of_corner[3 * t + k]] = 1;
+    uf.unite(verts.of_corner[3 * t], verts.of_corner[3 * t + 1]);
+    uf.unite(verts.of_corner[3 * t], verts.of_corner[3 * t + 2]);
+  }
+  std::unordered_map<uint32_t, std::vector<uint32_t>> groups;
+  for (uint32_t v = 0; v < verts.count(); ++v)
+    if (in_patch[v]) groups[uf.find(v)].push_back(v);
+  std::vector<std::vector<uint32_t>> patches;
+  for (auto& [root, members] : groups) patches.push_back(std::move(members));
+  std::sort(patches.begin(), patches.end());  // deterministic order
+  r.patches = patches.size();
+
+  std::vector<uint8_t> moved_vertex(verts.count(), 0);
+  for (size_t p = 0; p < patches.size(); ++p) {
+    if ((p & 255) == 0) progress.update("uv repair", double(p) / double(patches.size()));
+    std::vector<uint32_t> free_vertices = patches[p];
+    bool done = false;
+    for (int ring = 0; ring <= options.max_growth && !done; ++ring) {
+      if (free_vertices.size() > options.max_patch_vertices) break;
+      Patch patch(free_vertices, verts, rest, uvs);
+      const double before = patch.original_energy();
+      patch.start_at_copies();
+      if (!std::isfinite(patch.energy())) patch.start_tutte(500);
+      if (std::isfinite(patch.energy())) {
+        patch.minimise(options.max_sweeps);
+        const double after = patch.energy();
+        if (std::isfinite(after) && after < before) {
+          for (size_t i = 0; i < patch.free_vertices().size(); ++i) {
+            const uint32_t v = patch.free_vertices()[i];
+            moved_vertex[v] = 1;
+            for (uint32_t e = verts.start[v]; e < verts.start[v + 1]; ++e) {
+              const uint32_t c = verts.corners[e];
+              uvs[c / 3][c % 3] = patch.uv(i);
+            }
+          }
+          done = true;
+          break;
+        }
+        // Finite but no better: the fixed surroundings themselves constrain
+        // the patch too much; one more ring gives it room.
+      }
+      // Grow by one ring: every UV vertex of the patch's triangles is free.
+      for (uint32_t t : patch.triangles())
+        for (int k = 0; k < 3; ++k) free_vertices.push_back(verts.of_corner[3 * t + k]);
+      std::sort(free_vertices.begin(), free_vertices.end());
+      free_vertices.erase(std::unique(free_vertices.begin(), free_vertices.end()), free_vertices.end());
+    }
+    (done ? r.repaired_patches : r.failed_patches) += 1;
+  }
+
+  r.repaired_vertices = size_t(std::count(moved_vertex.begin(), moved_vertex.end(), 1));
+  for (size_t t = 0; t < n; ++t)
+    r.repaired_triangles += moved_vertex[verts.of_corner[3 * t]] ||
+                            moved_vertex[verts.of_corner[3 * t + 1]] ||
+                            moved_vertex[verts.of_corner[3 * t + 2]];
+  const std::vector<uint8_t> still_bad = find_bad(rest, uvs, options);
+  r.bad_triangles_after = size_t(std::count(still_bad.begin(), still_bad.end(), 1));
+  progress.update("uv repair", 1);
+  r.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  return r;
+}
+
+}  // namespace soupuv::transfer

@@ -1,0 +1,152 @@
+// Local UV repair on hand-made maps of a flat grid soup: a vertex whose
+// copies converged onto a neighbour (the sliver fans that converging field
+// lines make), a folded vertex, and two charts that must not be merged.
+#include <gtest/gtest.h>
+
+#include <set>
+
+#include "soupuv/quality/uv_metrics.h"
+#include "soupuv/shapes.h"
+#include "soupuv/transfer/uv_repair.h"
+
+using namespace soupuv;
+using namespace soupuv::transfer;
+
+namespace {
+
+constexpr int kN = 8;          // grid cells per side
+constexpr double kScale = 0.1; // UV units per 3D length
+
+TriMesh grid() {
+  TriMesh m;
+  for (int j = 0; j <= kN; ++j)
+    for (int i = 0; i <= kN; ++i) m.vertices.push_back({double(i), double(j), 0});
+  auto id = [](int i, int j) { return j * (kN + 1) + i; };
+  for (int j = 0; j < kN; ++j)
+    for (int i = 0; i < kN; ++i) {
+      m.faces.push_back({id(i, j), id(i + 1, j), id(i + 1, j + 1)});
+      m.faces.push_back({id(i, j), id(i + 1, j + 1), id(i, j + 1)});
+    }
+  return m;
+}
+
+Vec2 isometric(Vec3 p) { return {0.05 + kScale * p.x, 0.05 + kScale * p.y}; }
+
+struct Case {
+  Soup soup = shapes::to_soup(grid(), 0.0);
+  quality::Weld weld = quality::weld_corners(soup, 1e-9);
+  std::vector<int> chart = std::vector<int>(soup.triangles.size(), 0);
+  std::vector<std::array<Vec2, 3>> uvs;
+  Case() {
+    for (size_t t = 0; t < soup.triangles.size(); ++t)
+      uvs.push_back({isometric(soup.corner(t, 0)), isometric(soup.corner(t, 1)), isometric(soup.corner(t, 2))});
+  }
+  // Every copy of the grid vertex at (x, y) gets `uv`.
+  void move_vertex(double x, double y, Vec2 uv) {
+    for (size_t t = 0; t < soup.triangles.size(); ++t)
+      for (int k = 0; k < 3; ++k)
+        if (norm(soup.corner(t, k) - Vec3{x, y, 0}) < 1e-9) uvs[t][k] = uv;
+  }
+  quality::UvMetrics metrics() const { return quality::uv_metrics(soup, uvs, {}); }
+};
+
+// Grid vertices (as 3D points) used by any triangle that has a corner at p.
+std::set<std::pair<int, int>> one_ring(const Soup& soup, Vec3 p) {
+  std::set<std::pair<int, int>> ring;
+  for (size_t t = 0; t < soup.triangles.size(); ++t) {
+    bool touches = false;
+    for (int k = 0; k < 3; ++k) touches |= norm(soup.corner(t, k) - p) < 1e-9;
+    if (touches)
+      for (int k = 0; k < 3; ++k) ring.insert({int(soup.corner(t, k).x), int(soup.corner(t, k).y)});
+  }
+  return ring;
+}
+
+}  // namespace
+
+TEST(UvRepair, ConvergedCornersAreSpreadAgainWithoutMovingGoodVertices) {
+  Case c;
+  // The copies of (4, 4) converged almost onto (5, 4): its fan of triangles
+  // is a set of slivers and folds.
+  c.move_vertex(4, 4, isometric({5, 4, 0}) + Vec2{-1e-8, 2e-9});
+  const auto before = c.metrics();
+  ASSERT_GT(before.flipped, 0u);
+  ASSERT_GT(before.stretch_l2, 2.0);
+  const auto original = c.uvs;
+
+  UvRepairResult r = repair_uvs(c.soup, c.weld, c.chart, kScale, c.uvs);
+  const auto after = c.metrics();
+  EXPECT_EQ(after.flipped, 0u);
+  EXPECT_LT(after.stretch_l2, 1.0 + 1e-6);
+  EXPECT_EQ(r.bad_triangles_after, 0u);
+  EXPECT_EQ(r.repaired_patches, 1u);
+  EXPECT_GE(r.repaired_vertices, 1u);
+
+  // The isometric map is the energy's minimum, so the moved vertex goes
+  // back to where it belongs; and only vertices of the bad triangles'
+  // neighbourhood (one ring around (4, 4)) may move at all.
+  const auto ring = one_ring(c.soup, {4, 4, 0});
+  size_t moved = 0;
+  for (size_t t = 0; t < c.soup.triangles.size(); ++t)
+    for (int k = 0; k < 3; ++k) {
+      const Vec3 p = c.soup.corner(t, k);
+      if (!ring.count({int(p.x), int(p.y)})) {
+        EXPECT_EQ(c.uvs[t][k].x, original[t][k].x);
+        EXPECT_EQ(c.uvs[t][k].y, original[t][k].y);
+      } else {
+        EXPECT_LT(norm(c.uvs[t][k] - isometric(p)), 1e-3 * kScale) << p.x << " " << p.y;
+        moved += c.uvs[t][k].x != original[t][k].x || c.uvs[t][k].y != original[t][k].y;
+      }
+    }
+  EXPECT_GT(moved, 0u);
+}
+
+TEST(UvRepair, FoldedVertexIsUnfoldedFromATutteStart) {
+  Case c;
+  // (3, 3) reflected through (4, 4): its triangles fold over their neighbours,
+  // and the mean of its copies (all at the same wrong place) folds too.
+  c.move_vertex(3, 3, isometric({5.2, 4.9, 0}));
+  ASSERT_GT(c.metrics().flipped, 0u);
+  UvRepairResult r = repair_uvs(c.soup, c.weld, c.chart, kScale, c.uvs);
+  EXPECT_EQ(c.metrics().flipped, 0u);
+  EXPECT_EQ(r.failed_patches, 0u);
+  EXPECT_LT(c.metrics().stretch_l2, 1.0 + 1e-6);
+}
+
+TEST(UvRepair, GoodMapIsLeftBitForBit) {
+  Case c;
+  const auto original = c.uvs;
+  UvRepairResult r = repair_uvs(c.soup, c.weld, c.chart, kScale, c.uvs);
+  EXPECT_EQ(r.bad_triangles, 0u);
+  EXPECT_EQ(r.repaired_vertices, 0u);
+  for (size_t t = 0; t < c.uvs.size(); ++t)
+    for (int k = 0; k < 3; ++k) EXPECT_EQ(norm(c.uvs[t][k] - original[t][k]), 0.0);
+}
+
+TEST(UvRepair, VerticesOnTwoChartsStayApart) {
+  Case c;
+  // Triangles right of x = 4 form chart 1, drawn 0.05 further right in UV:
+  // the copies of a vertex on the seam belong to two UV vertices.
+  for (size_t t = 0; t < c.soup.triangles.size(); ++t) {
+    const double cx = (c.soup.corner(t, 0).x + c.soup.corner(t, 1).x + c.soup.corner(t, 2).x) / 3;
+    if (cx > 4) {
+      c.chart[t] = 1;
+      for (auto& uv : c.uvs[t]) uv.x += 0.05;
+    }
+  }
+  // Break a seam vertex on chart 0 only.
+  for (size_t t = 0; t < c.soup.triangles.size(); ++t)
+    for (int k = 0; k < 3; ++k)
+      if (c.chart[t] == 0 && norm(c.soup.corner(t, k) - Vec3{4, 4, 0}) < 1e-9)
+        c.uvs[t][k] = isometric({3, 4, 0}) + Vec2{1e-4, 0};
+  const auto original = c.uvs;
+  repair_uvs(c.soup, c.weld, c.chart, kScale, c.uvs);
+  EXPECT_EQ(c.metrics().flipped, 0u);
+  for (size_t t = 0; t < c.soup.triangles.size(); ++t)
+    for (int k = 0; k < 3; ++k) {
+      if (c.chart[t] == 1) {  // chart 1 was good: untouched, seam copies included
+        EXPECT_EQ(c.uvs[t][k].x, original[t][k].x);
+        EXPECT_EQ(c.uvs[t][k].y, original[t][k].y);
+      }
+    }
+}
