@@ -45,7 +45,7 @@ void solve_krylov(const SourceGeometry& src, const ChargeOptions& o, Progress& p
   CollocationOperator& A = *op;
   const bool split = cheap_order < o.fmm_order;
   const auto cheap = split ? CollocationOperator::Accuracy::cheap : CollocationOperator::Accuracy::full;
-  LeafBlockPreconditioner M(src, A.fmm().source_blocks(o.krylov_block_size), threads);
+  LeafBlockPreconditioner M(A, A.fmm().source_blocks(o.krylov_block_size), threads);
   r.setup_seconds = elapsed();
   r.near_entries = A.near_entries();
   r.solver = "krylov";

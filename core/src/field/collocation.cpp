@@ -83,17 +83,41 @@ void CollocationOperator::apply_with(Fmm& f, const std::vector<double>& q, std::
   }
 }
 
-LeafBlockPreconditioner::LeafBlockPreconditioner(const SourceGeometry& sources,
+Eigen::MatrixXd CollocationOperator::block(const std::vector<uint32_t>& idx, std::vector<int>& mark) const {
+  const int m = static_cast<int>(idx.size());
+  Eigen::MatrixXd A(m, m);
+  int marked = -1;  // the target leaf whose columns `mark` holds
+  auto unmark = [&] {
+    if (marked >= 0)
+      for (uint32_t j : leaf_cols_[marked]) mark[j] = -1;
+  };
+  for (int r = 0; r < m; ++r) {
+    const uint32_t i = idx[r];
+    if (leaf_[i] != marked) {
+      unmark();
+      marked = leaf_[i];
+      const auto& cols = leaf_cols_[marked];
+      for (size_t k = 0; k < cols.size(); ++k) mark[cols[k]] = static_cast<int>(k);
+    }
+    const float* val = &near_val_[near_start_[i]];
+    for (int c = 0; c < m; ++c) {
+      const int k = mark[idx[c]];
+      A(r, c) = k >= 0 ? static_cast<double>(val[k]) : unit_potential(src_, idx[c], src_.centroid[i]);
+    }
+  }
+  unmark();
+  return A;
+}
+
+LeafBlockPreconditioner::LeafBlockPreconditioner(const CollocationOperator& op,
                                                  const std::vector<std::vector<uint32_t>>& blocks, int threads)
     : blocks_(blocks), lu_(blocks.size()), threads_(threads > 0 ? threads : omp_get_max_threads()) {
-#pragma omp parallel for num_threads(threads_) schedule(dynamic, 8)
-  for (long b = 0; b < static_cast<long>(blocks_.size()); ++b) {
-    const auto& idx = blocks_[b];
-    const int m = static_cast<int>(idx.size());
-    Eigen::MatrixXd A(m, m);
-    for (int r = 0; r < m; ++r)
-      for (int c = 0; c < m; ++c) A(r, c) = unit_potential(sources, idx[c], sources.centroid[idx[r]]);
-    lu_[b] = Eigen::PartialPivLU<Eigen::MatrixXd>(A);
+#pragma omp parallel num_threads(threads_)
+  {
+    std::vector<int> mark(op.size(), -1);
+#pragma omp for schedule(dynamic, 8)
+    for (long b = 0; b < static_cast<long>(blocks_.size()); ++b)
+      lu_[b] = Eigen::PartialPivLU<Eigen::MatrixXd>(op.block(blocks_[b], mark));
   }
 }
 

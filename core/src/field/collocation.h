@@ -37,6 +37,10 @@ class CollocationOperator {
   size_t size() const { return src_.size(); }
   const Fmm& fmm() const { return *fmm_; }
   size_t near_entries() const { return near_val_.size(); }
+  // A restricted to the triangles `idx` (rows: their centroids): entries
+  // from the near matrix where it has them (float-rounded), the rest by
+  // unit_potential. `mark` is scratch of size() ints, all -1, returned so.
+  Eigen::MatrixXd block(const std::vector<uint32_t>& idx, std::vector<int>& mark) const;
   double setup_seconds() const { return setup_seconds_; }
 
  private:
@@ -61,11 +65,13 @@ class CollocationOperator {
   double setup_seconds_ = 0;
 };
 
-// Block-Jacobi over the FMM's source leaves: each block is A restricted to a
-// leaf's triangles (rows: their centroids), LU-factorised once.
+// Block-Jacobi over compact groups of source triangles: each block is A
+// restricted to a group's triangles (rows: their centroids), LU-factorised
+// once. The entries come from the operator's near matrix (a block's
+// triangles are near each other): recomputing them was ~6 % of a solve.
 class LeafBlockPreconditioner {
  public:
-  LeafBlockPreconditioner(const SourceGeometry& sources, const std::vector<std::vector<uint32_t>>& blocks,
+  LeafBlockPreconditioner(const CollocationOperator& A, const std::vector<std::vector<uint32_t>>& blocks,
                           int threads);
   void apply(const std::vector<double>& r, std::vector<double>& z) const;
 
