@@ -10,9 +10,21 @@
 #include "soupuv/field/quadrature.h"
 #include "soupuv/field/sources.h"
 #include "soupuv/field/triangle_integrals.h"
+#include "tracer_closed_form.h"
 #include "tracer_kernels.h"
 
 namespace soupuv::field {
+
+// What the near rule needs of one triangle, in tree order (the candidates of
+// a source leaf are contiguous) and with its closed-form frame precomputed.
+struct TracerField::NearTriangle {
+  tracer::TriangleFrame frame;
+  Vec3 centroid;
+  double radius = 0, area = 0;
+  double near2 = 0, closed2 = 0;  // squared radii of SourceGeometry::is_near / is_closed_form
+};
+
+TracerField::~TracerField() = default;
 
 namespace {
 
@@ -44,27 +56,6 @@ void to_float(Vec3 v, float* f) {
 // closed forms (six atan2, three logs each) that dominate the near field.
 constexpr double kSplitFactor = 1.75;
 
-void TracerField::near_triangle(size_t j, double q, Vec3 x, double* e) const {
-  const SourceGeometry& src = fmm_.src_;
-  if (!(src.area[j] > 0)) return;
-  const double d2 = norm2(x - src.centroid[j]);
-  const double r = src.radius[j];
-  const bool closed = src.is_closed_form(j, x);
-  if (!closed || (d2 >= kSplitFactor * kSplitFactor * r * r && kSplitFactor < src.closed_factor)) {
-    float A[3], B[3], C[3];
-    to_float(src.a[j] - x, A);
-    to_float(src.b[j] - x, B);
-    to_float(src.c[j] - x, C);
-    const auto& rule = closed ? tracer::degree6_children_rule() : tracer::degree6_rule();
-    return tracer::rule_field(rule, A, B, C, static_cast<float>(q), e);
-  }
-  TriangleIntegrals t = triangle_integrals(src.a[j], src.b[j], src.c[j], x);
-  const double s = q / src.area[j];
-  e[0] += s * t.field.x;
-  e[1] += s * t.field.y;
-  e[2] += s * t.field.z;
-}
-
 TracerField::TracerField(const Fmm& fmm, const std::vector<double>& charges, int threads)
     : fmm_(fmm),
       m_(fmm.src_.points_per_triangle),
@@ -78,6 +69,19 @@ TracerField::TracerField(const Fmm& fmm, const std::vector<double>& charges, int
     const double q = charges[fmm.order_[k]];
     tri_charge_[k] = q;
     for (int i = 0; i < m_; ++i) pq_[k * m_ + i] = q * src.qweights[i];
+  }
+  near_tris_.resize(n);
+  for (size_t k = 0; k < n; ++k) {
+    const uint32_t j = fmm.order_[k];
+    NearTriangle& t = near_tris_[k];
+    t.frame = tracer::triangle_frame(src.a[j], src.b[j], src.c[j]);
+    t.centroid = src.centroid[j];
+    t.radius = src.radius[j];
+    t.area = src.area[j];
+    // Computed as SourceGeometry::is_near / is_closed_form do, so the tests agree bit for bit.
+    const double rn = src.near_factor * src.radius[j], rc = src.closed_factor * src.radius[j];
+    t.near2 = rn * rn;
+    t.closed2 = rc * rc;
   }
   // One float block per source leaf (tracer_kernels.h), relative to its
   // expansion centre.
@@ -261,9 +265,10 @@ void TracerField::field(int leaf, const Vec3* x, int count, Vec3* E, double* nea
 }
 
 void TracerField::near_candidate(int k, Vec3 x, double* e, double* nearest) const {
-  const SourceGeometry& src = fmm_.src_;
-  const uint32_t j = fmm_.order_[k];
-  if (!src.is_near(j, x)) {
+  const NearTriangle& t = near_tris_[k];
+  const double q = tri_charge_[k];
+  const double d2 = norm2(x - t.centroid);
+  if (!(d2 < t.near2)) {
     // A float candidate the double test rejects: its own quadrature points.
     const size_t p0 = static_cast<size_t>(k) * m_;
     const Vec3 ej = scalar_sum(&fmm_.points_[p0], &pq_[p0], m_, x);
@@ -272,16 +277,31 @@ void TracerField::near_candidate(int k, Vec3 x, double* e, double* nearest) cons
     e[2] += ej.z;
     return;
   }
-  near_triangle(j, tri_charge_[k], x, e);
+  if (!(t.area > 0)) return;
+  const double r = t.radius;
+  if (!(d2 < t.closed2) || (d2 >= kSplitFactor * kSplitFactor * r * r && kSplitFactor < fmm_.src_.closed_factor)) {
+    float A[3], B[3], C[3];
+    to_float(t.frame.v[0] - x, A);
+    to_float(t.frame.v[1] - x, B);
+    to_float(t.frame.v[2] - x, C);
+    const auto& rule = d2 < t.closed2 ? tracer::degree6_children_rule() : tracer::degree6_rule();
+    tracer::rule_field(rule, A, B, C, static_cast<float>(q), e);
+  } else {
+    const Vec3 f = (q / t.area) * tracer::closed_form_field(t.frame, x);
+    e[0] += f.x;
+    e[1] += f.y;
+    e[2] += f.z;
+  }
   // Every point of the triangle lies within radius of its centroid, so
   // |x - centroid| - radius bounds the distance from below: most near
   // triangles cannot beat the nearest so far.
-  if (nearest && src.area[j] > 0 && std::sqrt(norm2(x - src.centroid[j])) - src.radius[j] < *nearest)
-    *nearest = std::min(*nearest, point_triangle_distance(src.a[j], src.b[j], src.c[j], x));
+  if (nearest && std::sqrt(d2) - r < *nearest)
+    *nearest = std::min(*nearest, point_triangle_distance(t.frame.v[0], t.frame.v[1], t.frame.v[2], x));
 }
 
 size_t TracerField::memory_bytes() const {
   return (pq_.size() + tri_charge_.size() + M_.size() + L_.size()) * sizeof(double) +
+         near_tris_.size() * sizeof(NearTriangle) +
          blocks_.size() * sizeof(float) + (span_of_cell_.size() + slot_.size()) * sizeof(int) +
          spans_.size() * sizeof(Span);
 }

@@ -45,6 +45,7 @@ class TracerField {
  public:
   // charges: one per source triangle (input order). threads: 0 = OpenMP default.
   TracerField(const Fmm& fmm, const std::vector<double>& charges, int threads = 0);
+  ~TracerField();
 
   // Target leaf containing x, or -1 outside the target tree's root cube.
   // `hint`: a leaf x probably still lies in (the previous step's), checked first.
@@ -80,8 +81,6 @@ class TracerField {
   // x: adds its field at x to e[0..3) by the model's rule and lowers
   // *nearest (if given) to its distance when it is near.
   void near_candidate(int k, Vec3 x, double* e, double* nearest) const;
-  // Adds to e[0..3) the field at x of triangle j (charge q) that is_near x.
-  void near_triangle(size_t j, double q, Vec3 x, double* e) const;
   // Field and nearest near triangle at a point outside the target tree.
   void field_outside(Vec3 x, Vec3* E, double* nearest) const;
   void upward_pass();
@@ -91,6 +90,8 @@ class TracerField {
   std::vector<double> pq_;                 // quadrature point charges, tree order
   std::vector<float> blocks_;              // per source leaf, see Span
   std::vector<double> tri_charge_;         // per triangle, tree order
+  struct NearTriangle;                     // tracer_field.cpp
+  std::vector<NearTriangle> near_tris_;    // per triangle, tree order
   std::vector<int> span_of_cell_;          // source cell -> index into spans_ (-1: not a leaf)
   std::vector<Span> spans_;
   int threads_;
