@@ -123,7 +123,10 @@ TriMesh marching_tetrahedra(const NarrowBand& band, Progress& progress) {
 #pragma omp parallel
   {
     int me = omp_get_thread_num();
-#pragma omp for schedule(dynamic, 512)
+    // Static contiguous chunks: thread t gets the t-th run of cells, so the
+    // per-thread lists concatenated in thread order are in cell order — the
+    // same mesh for every thread count (the edge collapse depends on face order).
+#pragma omp for schedule(static)
     for (long n = 0; n < n_cells; ++n) {
       if (me == 0 && n % 4096 == 0)
         progress.update("proxy: marching tetrahedra", double(n) / n_cells);

@@ -29,7 +29,7 @@ double NarrowBand::value(uint64_t key) const {
 
 namespace {
 
-enum Label : uint8_t { kInside = 0, kOutside = 1, kBand = 2, kReached = 4 };
+enum Label : uint8_t { kInside = 0, kOutside = 1, kBand = 2, kReached = 4, kBlocked = 8 };
 
 // A cell dropped as certainly outside at some level: painted into the dense
 // label grid of every finer level that is pruned.
@@ -47,9 +47,16 @@ size_t prune_cavities(const std::array<int, 3>& dims, int level, const std::vect
                       std::vector<char>& keep, std::vector<char>& reached_cell) {
   const int64_t n[3] = {(dims[0] + (1 << level) - 1) >> level, (dims[1] + (1 << level) - 1) >> level,
                         (dims[2] + (1 << level) - 1) >> level};
-  const int64_t total = n[0] * n[1] * n[2];
-  auto index = [&](int64_t i, int64_t j, int64_t k) { return i + n[0] * (j + n[1] * k); };
+  // The label grid has a one-cell frame of kBlocked around it, so the flood
+  // needs no bounds checks: a neighbour is always at id +- 1, +- sx, +- sxy.
+  const int64_t sx = n[0] + 2, sxy = sx * (n[1] + 2);
+  const int64_t total = sxy * (n[2] + 2);
+  auto index = [&](int64_t i, int64_t j, int64_t k) { return (i + 1) + sx * (j + 1) + sxy * (k + 1); };
   std::vector<uint8_t> grid(size_t(total), kInside);
+  for (int64_t k = -1; k <= n[2]; ++k)
+    for (int64_t j = -1; j <= n[1]; ++j)
+      for (int64_t i = -1; i <= n[0]; ++i)
+        if (i < 0 || j < 0 || k < 0 || i == n[0] || j == n[1] || k == n[2]) grid[size_t(index(i, j, k))] = kBlocked;
   for (const OutsideCell& o : outside) {
     auto c = grid_coords(o.key);
     int64_t scale = int64_t{1} << (o.level - level);
@@ -66,27 +73,26 @@ size_t prune_cavities(const std::array<int, 3>& dims, int level, const std::vect
     auto c = grid_coords(current[m]);
     grid[size_t(index(c[0], c[1], c[2]))] = labels[m];
   }
-  // Flood from the border through every cell that is not certainly inside.
-  std::vector<int64_t> queue;
-  auto push = [&](int64_t i, int64_t j, int64_t k) {
-    uint8_t& g = grid[size_t(index(i, j, k))];
-    if (g == kInside || (g & kReached)) return;
+  // Flood from the border through every cell that is not certainly inside,
+  // one BFS layer at a time (memory: two wavefronts, not the whole volume).
+  std::vector<uint32_t> frontier, next;
+  auto push = [&](int64_t id, std::vector<uint32_t>& into) {
+    uint8_t& g = grid[size_t(id)];
+    if (g == kInside || (g & (kReached | kBlocked))) return;
     g |= kReached;
-    queue.push_back(index(i, j, k));
+    into.push_back(uint32_t(id));
   };
   for (int64_t k = 0; k < n[2]; ++k)
     for (int64_t j = 0; j < n[1]; ++j)
       for (int64_t i = 0; i < n[0]; ++i)
-        if (i == 0 || j == 0 || k == 0 || i == n[0] - 1 || j == n[1] - 1 || k == n[2] - 1) push(i, j, k);
-  for (size_t q = 0; q < queue.size(); ++q) {
-    int64_t id = queue[q];
-    int64_t i = id % n[0], j = (id / n[0]) % n[1], k = id / (n[0] * n[1]);
-    if (i > 0) push(i - 1, j, k);
-    if (i + 1 < n[0]) push(i + 1, j, k);
-    if (j > 0) push(i, j - 1, k);
-    if (j + 1 < n[1]) push(i, j + 1, k);
-    if (k > 0) push(i, j, k - 1);
-    if (k + 1 < n[2]) push(i, j, k + 1);
+        if (i == 0 || j == 0 || k == 0 || i == n[0] - 1 || j == n[1] - 1 || k == n[2] - 1)
+          push(index(i, j, k), frontier);
+  const int64_t step[6] = {1, -1, sx, -sx, sxy, -sxy};
+  while (!frontier.empty()) {
+    next.clear();
+    for (uint32_t id : frontier)
+      for (int64_t d : step) push(int64_t(id) + d, next);
+    frontier.swap(next);
   }
   size_t pruned = 0;
   for (size_t m = 0; m < current.size(); ++m) {
