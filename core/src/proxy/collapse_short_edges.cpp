@@ -11,9 +11,11 @@
 namespace soupuv::proxy {
 namespace {
 
-// Per-thread scratch and counters.
+// Per-thread scratch and counters. `mark` (one entry per vertex) with a
+// fresh `stamp` per use marks a one-ring without sorting or clearing.
 struct Worker {
-  std::vector<int> ring_a, ring_b, common;
+  std::vector<uint32_t> mark;
+  uint32_t stamp = 0;
   CollapseStats stats;
 };
 
@@ -102,16 +104,6 @@ class Collapser {
   }
 
  private:
-  // The one-ring of v (vertices sharing a face with it), sorted.
-  void ring(int v, std::vector<int>& out) const {
-    out.clear();
-    for (int f : vf_[v])
-      for (int w : f_[f])
-        if (w != v) out.push_back(w);
-    std::sort(out.begin(), out.end());
-    out.erase(std::unique(out.begin(), out.end()), out.end());
-  }
-
   static bool has(const std::array<int, 3>& t, int v) { return t[0] == v || t[1] == v || t[2] == v; }
 
   Vec3 normal(const std::array<int, 3>& t, int from, int to, Vec3 moved) const {
@@ -135,29 +127,36 @@ class Collapser {
         for (int f : vf_[end])
           for (int v : f_[f])
             if (slab_[v] != slab) return;
-    ring(a, w.ring_a);
-    ring(b, w.ring_b);
     int opposite[2];
     for (int s = 0; s < 2; ++s)
       for (int v : f_[shared[s]])
         if (v != a && v != b) opposite[s] = v;
     // Link condition: the rings of a and b meet only in the two opposite
     // vertices; a valence-3 opposite vertex would be left with two faces.
-    w.common.clear();
-    std::set_intersection(w.ring_a.begin(), w.ring_a.end(), w.ring_b.begin(), w.ring_b.end(),
-                          std::back_inserter(w.common));
-    if (w.common.size() != 2 || opposite[0] == opposite[1] || vf_[opposite[0]].size() <= 3 ||
+    const uint32_t in_ring_a = ++w.stamp, counted = ++w.stamp;
+    for (int f : vf_[a])
+      for (int v : f_[f])
+        if (v != a) w.mark[size_t(v)] = in_ring_a;
+    int common = 0;
+    for (int f : vf_[b])
+      for (int v : f_[f])
+        if (v != b && w.mark[size_t(v)] == in_ring_a) {
+          w.mark[size_t(v)] = counted;
+          ++common;
+        }
+    if (common != 2 || opposite[0] == opposite[1] || vf_[opposite[0]].size() <= 3 ||
         vf_[opposite[1]].size() <= 3) {
       ++w.stats.refused_link;
       return;
     }
     const Vec3 mid = 0.5 * (p_[a] + p_[b]);
-    for (const auto* r : {&w.ring_a, &w.ring_b})
-      for (int v : *r)
-        if (v != a && v != b && norm2(p_[v] - mid) > max2_) {
-          ++w.stats.refused_long;
-          return;
-        }
+    for (int end : {a, b})
+      for (int f : vf_[end])
+        for (int v : f_[f])
+          if (v != a && v != b && norm2(p_[v] - mid) > max2_) {
+            ++w.stats.refused_long;
+            return;
+          }
     // No face may turn by more than ~80 degrees or become degenerate.
     for (int v : {a, b})
       for (int f : vf_[v]) {
@@ -204,6 +203,7 @@ TriMesh collapse_short_edges(const TriMesh& mesh, double min_edge_length, double
   if (!(min_edge_length > 0) || mesh.faces.empty()) return mesh;
   Collapser collapser(mesh, std::max(min_edge_length, max_edge_length));
   std::vector<Worker> workers(static_cast<size_t>(omp_get_max_threads()));
+  for (Worker& w : workers) w.mark.assign(mesh.vertices.size(), 0);
   // Two parallel phases on 8 slabs, the second shifted by half a slab so the
   // first one's boundary strips (left alone there) are slab interiors; then
   // one serial schedule over everything for what is left. The slab count is
