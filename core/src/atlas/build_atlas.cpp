@@ -15,6 +15,7 @@
 #include "atlas/mesh_topology.h"
 #include "atlas/pack.h"
 #include "atlas/parameterize.h"
+#include "atlas/raster_pack.h"
 #include "atlas/seams.h"
 #include "atlas/segment.h"
 #include "atlas/split.h"
@@ -50,6 +51,7 @@ nlohmann::json AtlasResult::diagnostics() const {
           {"seconds", s.seconds},
           {"cpu_seconds", s.cpu_seconds},
           {"pack_attempts", s.pack_attempts},
+          {"pack_method", s.pack_method},
           {"seconds_segment", s.seconds_segment},
           {"seconds_parameterize", s.seconds_parameterize},
           {"seconds_pack", s.seconds_pack},
@@ -150,10 +152,14 @@ AtlasResult build_atlas(const TriMesh& mesh, const AtlasOptions& options, Progre
     std::vector<FlatChart> trial = done;
     std::vector<PackChart> pack_input;
     for (FlatChart& c : trial) pack_input.push_back({&c.uv, &c.mesh.tri, &c.mesh.boundary});
-    PackResult p = pack_charts(pack_input, options.texture_size, options.padding_px);
+    RasterPackOptions raster;
+    raster.angles = options.pack_angles;
+    raster.threads = threads;
+    PackResult p = pack_charts(pack_input, options.texture_size, options.padding_px, raster);
     stats.pack_attempts += p.attempts;
     if (p.utilization > packed.utilization) {
       packed = p;
+      stats.pack_method = p.method;
       best_charts = std::move(trial);
       stats.packing_splits = splits_so_far;
     }

@@ -1,4 +1,6 @@
-// Packing of flattened charts into the unit square.
+// Packing of flattened charts into the unit square: the column packer below
+// and, through raster_pack.h, the bitmap packer (alone for more than 64
+// charts, else both and the denser layout wins).
 //
 // Inputs:  per chart its UVs (in units of 3D length: one density for all) and
 //          triangles and boundary loop, the texture size and the padding in
@@ -25,6 +27,7 @@
 #pragma once
 
 #include <array>
+#include <string>
 #include <vector>
 
 #include "soupuv/vec.h"
@@ -38,6 +41,7 @@ struct PackChart {
 };
 
 struct PackResult {
+  std::string method;      // "columns" or "raster": which packer's layout won
   double uv_per_length = 0;
   double utilization = 0;  // UV area / 1
   int attempts = 0;        // packings tried by the scale search
@@ -54,6 +58,11 @@ MinRectangle min_area_rectangle(const std::vector<Vec2>& points);
 
 // Throws Error{limit_exceeded} if the charts cannot fit at any scale (more
 // charts than the padding leaves room for).
-PackResult pack_charts(std::vector<PackChart>& charts, int texture_size, double padding_px);
+// The column portfolio runs first; then the bitmap packer (raster_pack.h,
+// with `raster`'s settings) tries to beat its scale, and the denser layout is
+// kept.
+struct RasterPackOptions;
+PackResult pack_charts(std::vector<PackChart>& charts, int texture_size, double padding_px,
+                       const RasterPackOptions& raster);
 
 }  // namespace soupuv::atlas

@@ -33,9 +33,9 @@ AtlasResult check_atlas(const std::string& name, const TriMesh& mesh, const Atla
   EXPECT_EQ(r.stats.flipped, 0) << name;
   EXPECT_EQ(r.stats.overlap, 0.0) << name;
   EXPECT_LE(r.stats.stretch_l2, 1.10) << name;
-  // Issue 5 asks for 0.70 at 2048 / 4 px; genus 3 (many small charts around
-  // big arch-shaped ones) only reaches it through the packer's second pass
-  // (measured 0.701).
+  // Issue 5 asks for 0.70 at 2048 / 4 px; the tightest meshes here are the
+  // genus-3 ones (many small charts around big arch-shaped ones: 12k 0.713,
+  // 40k 0.707 with the bitmap packer).
   EXPECT_GE(r.stats.utilization, min_utilization) << name;
 
   int flipped = 0, outside = 0, bad_chart = 0;
@@ -70,6 +70,10 @@ TEST(BuildAtlas, Cube) {
 }
 TEST(BuildAtlas, Cylinder) { check_atlas("cylinder", shapes::cylinder(0.5, 2.0, 48, 16, 6)); }
 TEST(BuildAtlas, GenusThree) { check_atlas("genus 3", test_meshes::fused_tori(3, 12000)); }
+// The two meshes that missed 0.70 with the column packer alone (0.684 and
+// 0.695, session 2); the 100k genus-3 row is in soupuv-bench atlas.
+TEST(BuildAtlas, GenusThreeOf40k) { check_atlas("genus 3 40k", test_meshes::fused_tori(3, 40000)); }
+TEST(BuildAtlas, TorusOf51k) { check_atlas("torus 51k", shapes::torus_with(1.0, 0.3, 51200)); }
 TEST(BuildAtlas, DrilledBlock) { check_atlas("drilled block", test_meshes::drilled_block(10000)); }
 TEST(BuildAtlas, TwoComponents) {
   TriMesh a = shapes::sphere_with(1.0, 2000), b = shapes::torus_with(1.0, 0.3, 2000);

@@ -13,8 +13,10 @@
 // forced seams are never crossed); each chart is made a topological disk;
 // LSCM then ARAP local/global per chart; a chart that flips, overlaps itself or
 // exceeds the stretch budget is split in two and redone; charts are scaled to
-// one texel density, rotated to their minimal-area rectangle and packed by
-// horizon (Tetris) packing into [0,1]^2 with padding.
+// one texel density, rotated to their minimal-area rectangle and packed into
+// [0,1]^2 with padding by a bitmap packer (conservative rasters in 16 turns,
+// lowest fit) and, for few charts, also a column (horizon) packer; the
+// denser layout wins.
 #pragma once
 
 #include <string>
@@ -57,6 +59,10 @@ struct AtlasOptions {
   // `packing_split_rounds` times (few big charts fill a square badly).
   double packing_split_below = 0.72;
   int packing_split_rounds = 2;
+  // Bitmap packer (after the column packer; the denser layout wins): turns
+  // tried per chart (multiples of 360/pack_angles degrees from the chart's
+  // minimal rectangle); 0 switches the bitmap packer off.
+  int pack_angles = 16;
   int threads = 0;           // OpenMP threads; 0 = OpenMP's default
 };
 
@@ -78,6 +84,7 @@ struct AtlasDiagnostics {
   double seconds = 0;         // wall clock
   double cpu_seconds = 0;     // process CPU time (all threads) during the build
   int pack_attempts = 0;      // packings tried by the scale searches
+  std::string pack_method;    // "columns" or "raster": whose layout won
   double seconds_segment = 0, seconds_parameterize = 0, seconds_pack = 0;
   std::vector<std::string> warnings;
 };

@@ -1,0 +1,289 @@
+#include "atlas/raster_pack.h"
+
+#include <algorithm>
+#include <climits>
+#include <cmath>
+#include <cstdint>
+#include <numeric>
+
+#include "atlas/chart_raster.h"
+
+namespace soupuv::atlas {
+namespace {
+
+// Occupancy of a strip of texels, per row as signed run lengths: run > 0
+// means that many free texels from here rightward, run < 0 that many
+// occupied. widest(y) is the longest free run of row y, so rows that cannot
+// take a chart's row are skipped with one comparison.
+class RowRuns {
+ public:
+  RowRuns(int width, int height)
+      : width_(width), height_(height), run_(static_cast<size_t>(width) * height), widest_(height) {}
+  int width() const { return width_; }
+  int height() const { return height_; }
+  void reset() {
+    for (int y = 0; y < height_; ++y) {
+      int16_t* row = &run_[static_cast<size_t>(y) * width_];
+      for (int x = 0; x < width_; ++x) row[x] = static_cast<int16_t>(width_ - x);
+      widest_[y] = width_;
+    }
+  }
+  int run(int x, int y) const { return run_[static_cast<size_t>(y) * width_ + x]; }
+  int widest(int y) const { return widest_[y]; }
+  // Marks texels a..b of row y occupied (clipped to the strip).
+  void fill(int y, int a, int b) {
+    if (y < 0 || y >= height_) return;
+    a = std::max(a, 0);
+    b = std::min(b, width_ - 1);
+    if (a > b) return;
+    int16_t* row = &run_[static_cast<size_t>(y) * width_];
+    for (int x = b; x >= a; --x) row[x] = static_cast<int16_t>(x + 1 < width_ && row[x + 1] < 0 ? row[x + 1] - 1 : -1);
+    // Leftward, each run depends only on its right neighbour: stop at the
+    // first one that does not change.
+    for (int x = a - 1; x >= 0; --x) {
+      const bool occupied = row[x] < 0;
+      const int right = row[x + 1];
+      const int16_t now = static_cast<int16_t>(occupied ? (right < 0 ? right - 1 : -1) : (right < 0 ? 1 : right + 1));
+      if (now == row[x]) break;
+      row[x] = now;
+    }
+    int widest = 0;
+    for (int x = 0; x < width_; x += std::abs(row[x])) widest = std::max(widest, static_cast<int>(row[x]));
+    widest_[y] = widest;
+  }
+
+ private:
+  int width_, height_;
+  std::vector<int16_t> run_;
+  std::vector<int> widest_;
+};
+
+// A chart turned by one of the trial angles: every vertex turned (unscaled),
+// and the lower corner of the turned bounding box.
+struct Turn {
+  std::vector<Vec2> uv;
+  Vec2 lo;
+};
+
+Turn make_turn(const std::vector<Vec2>& uv, double angle) {
+  const double c = std::cos(angle), s = std::sin(angle);
+  Turn t;
+  t.uv.reserve(uv.size());
+  t.lo = {INFINITY, INFINITY};
+  for (Vec2 p : uv) {
+    Vec2 q{c * p.x - s * p.y, s * p.x + c * p.y};
+    t.lo = {std::min(t.lo.x, q.x), std::min(t.lo.y, q.y)};
+    t.uv.push_back(q);
+  }
+  return t;
+}
+
+// Texel position of a turned vertex in the chart's own frame; the raster and
+// the final UVs both come from here, so the written chart lies exactly on the
+// texels tested.
+Vec2 local_texel(const Turn& t, int vertex, double scale) {
+  return (t.uv[vertex] - t.lo) * scale;
+}
+
+// Longest interval of each mask row: the quick test against widest().
+std::vector<int> row_needs(const RowMask& m) {
+  std::vector<int> need(m.height, 0);
+  for (int r = 0; r < m.height; ++r)
+    for (int s = m.first[r]; s < m.first[r + 1]; ++s) need[r] = std::max(need[r], m.spans[s].b - m.spans[s].a + 1);
+  return need;
+}
+
+struct Spot {
+  int x = -1, y = -1;
+};
+
+// Lowest row, then leftmost column, where the mask fits with its bottom row
+// at y <= y_limit; x = -1 if none.
+Spot first_fit(const RowRuns& occ, const RowMask& m, const std::vector<int>& need, int y_limit) {
+  const int h = m.height, w = m.width;
+  if (h == 0 || w > occ.width()) return {};
+  y_limit = std::min(y_limit, occ.height() - h);
+  int hint = 0;  // the mask row that blocked last: usually blocks again
+  for (int y = 0; y <= y_limit; ++y) {
+    bool wide_enough = true;
+    for (int i = 0; i < h; ++i) {
+      const int r = (hint + i) % h;
+      if (occ.widest(y + r) < need[r]) {
+        wide_enough = false;
+        // At y + 1 the same texel row meets mask row r - 1.
+        hint = r > 0 ? r - 1 : 0;
+        break;
+      }
+    }
+    if (!wide_enough) continue;
+    int x = 0;
+    while (x + w <= occ.width()) {
+      int next = x;
+      for (int i = 0; i < h && next == x; ++i) {
+        const int r = (hint + i) % h;
+        for (int s = m.first[r]; s < m.first[r + 1]; ++s) {
+          const int a = x + m.spans[s].a, len = m.spans[s].b - m.spans[s].a + 1;
+          const int v = occ.run(a, y + r);
+          if (v >= len) continue;
+          // Every column before `next` would still cover the blocking texels.
+          if (v <= 0) next = x - v;
+          else next = a + v < occ.width() ? x + v - occ.run(a + v, y + r) : occ.width();
+          hint = r;
+          break;
+        }
+      }
+      if (next == x) return {x, y};
+      x = next;
+    }
+  }
+  return {};
+}
+
+struct Placed {
+  int turn = 0;
+  Spot at;
+};
+
+}  // namespace
+
+RasterPackResult raster_pack(std::vector<PackChart>& charts, int texture_size, double padding_px,
+                             double scale_to_beat, const RasterPackOptions& options) {
+  RasterPackResult result;
+  const int n = static_cast<int>(charts.size());
+  if (n == 0 || texture_size > 4096 || options.angles < 1) return result;
+  const int pad = static_cast<int>(std::ceil(padding_px - 1e-9));
+  // Charts keep half the padding from the texture's border (the texture may
+  // repeat). The strip is twice as tall as the square to measure overflow.
+  const int margin = (pad + 1) / 2;
+  const int side = texture_size - 2 * margin;
+  if (side < 1) return result;
+  RowRuns occ(side, 2 * side);
+
+  std::vector<std::vector<Turn>> turns(n);
+  std::vector<double> area(n, 0);
+  double total_area = 0;
+  for (int i = 0; i < n; ++i) {
+    for (int k = 0; k < options.angles; ++k) turns[i].push_back(make_turn(*charts[i].uv, 2 * M_PI * k / options.angles));
+    const auto& uv = *charts[i].uv;
+    for (const auto& t : *charts[i].triangles) area[i] += 0.5 * std::fabs(cross(uv[t[1]] - uv[t[0]], uv[t[2]] - uv[t[0]]));
+    total_area += area[i];
+  }
+  if (!(total_area > 0)) return result;
+  // Two orders: largest area first and longest side first.
+  std::vector<int> by_area(n);
+  std::iota(by_area.begin(), by_area.end(), 0);
+  std::vector<int> by_side = by_area;
+  std::stable_sort(by_area.begin(), by_area.end(), [&](int a, int b) { return area[a] > area[b]; });
+  std::vector<double> side_length(n, 0);
+  for (int i = 0; i < n; ++i)
+    for (const Vec2& p : turns[i][0].uv)
+      side_length[i] = std::max({side_length[i], p.x - turns[i][0].lo.x, p.y - turns[i][0].lo.y});
+  std::stable_sort(by_side.begin(), by_side.end(), [&](int a, int b) { return side_length[a] > side_length[b]; });
+
+  // One packing at `scale`: the strip rows used, or INT_MAX if a chart found
+  // no place in the strip.
+  std::vector<RowMask> masks(static_cast<size_t>(n) * options.angles);
+  std::vector<Placed> placed(n), best;
+  auto pack_at = [&](double scale, const std::vector<int>& order, double height_weight) {
+    ++result.attempts;
+#pragma omp parallel for schedule(dynamic, 4) num_threads(options.threads)
+    for (int job = 0; job < n * options.angles; ++job) {
+      const int i = job / options.angles, k = job % options.angles;
+      const Turn& t = turns[i][k];
+      std::vector<Vec2> outline;
+      outline.reserve(charts[i].outline->size());
+      for (int v : *charts[i].outline) outline.push_back(local_texel(t, v, scale));
+      masks[job] = rasterize_outline(outline);
+    }
+    occ.reset();
+    int used = 0;
+    for (int i : order) {
+      // Every turn finds its own first fit, searched only below the best
+      // score so far (a turn must beat it strictly: ties go to the lower
+      // turn index). One thread: the searches are short and a parallel
+      // region per chart cost more than it saved (measured).
+      int k_best = -1;
+      double best_score = INFINITY;
+      Spot best_spot;
+      for (int k = 0; k < options.angles; ++k) {
+        const RowMask& m = masks[static_cast<size_t>(i) * options.angles + k];
+        const double slack = best_score - height_weight * m.height;
+        const int y_limit = std::isinf(best_score) ? occ.height() : static_cast<int>(std::ceil(slack)) - 1;
+        if (y_limit < 0) continue;
+        Spot s = first_fit(occ, m, row_needs(m), y_limit);
+        if (s.x < 0) continue;
+        const double score = s.y + height_weight * m.height;
+        if (score < best_score) {
+          best_score = score;
+          best_spot = s;
+          k_best = k;
+        }
+      }
+      if (k_best < 0) return INT_MAX;
+      const RowMask& m = masks[static_cast<size_t>(i) * options.angles + k_best];
+      const Spot s = best_spot;
+      placed[i] = {k_best, s};
+      // Stored dilated by the padding: a later chart's own texels that miss
+      // these keep the padding from this one.
+      RowMask grown = dilate(m, pad);
+      for (int r = 0; r < grown.height; ++r)
+        for (int j = grown.first[r]; j < grown.first[r + 1]; ++j)
+          occ.fill(s.y - pad + r, s.x - pad + grown.spans[j].a, s.x - pad + grown.spans[j].b);
+      used = std::max(used, s.y + m.height);
+    }
+    return used;
+  };
+
+  // Scale search, per greedy variant (order, height weight; the packings are
+  // chaotic in the scale, so a variant that misses one scale may fit a
+  // larger one): `found` is the largest scale any variant fit, `hi` the
+  // smallest this variant did not. A variant after the first only has to
+  // beat `found` and gets a few packings.
+  const double full = side / std::sqrt(total_area);  // 100% of the usable square
+  double found = 0;
+  auto search = [&](const std::vector<int>& order, double height_weight, double start, int packings) {
+    const double lower = std::max(found, scale_to_beat);
+    double hi = full, s = start, fit = 0;
+    for (int it = 0; it < packings; ++it) {
+      const int used = pack_at(s, order, height_weight);
+      if (used <= side) {
+        fit = s;
+        if (s > found) {
+          found = s;
+          best = placed;
+        }
+      } else {
+        hi = std::min(hi, s);
+      }
+      const double floor = std::max(fit, lower);
+      if (floor > 0 && hi / floor < options.precision) break;
+      double guess = used == INT_MAX ? 0.97 * s : s * std::sqrt(static_cast<double>(side) / used);
+      if (used > side) guess *= 0.997;
+      if (!(guess > floor && guess < hi)) guess = floor > 0 ? std::sqrt(floor * hi) : 0.8 * s;
+      s = guess;
+    }
+  };
+  search(by_area, 1.0, scale_to_beat > 0 ? scale_to_beat * 1.02 : full * std::sqrt(0.7), options.max_packings);
+  const struct {
+    const std::vector<int>* order;
+    double height_weight;
+  } more[] = {{&by_area, 0.5}, {&by_side, 1.0}, {&by_side, 0.5}};
+  for (const auto& v : more) {
+    const double lower = std::max(found, scale_to_beat);
+    if (lower > 0) search(*v.order, v.height_weight, lower * 1.005, options.variant_packings);
+  }
+  if (found <= scale_to_beat) return result;
+
+  for (int i = 0; i < n; ++i) {
+    const Turn& t = turns[i][best[i].turn];
+    auto& uv = *charts[i].uv;
+    for (size_t v = 0; v < uv.size(); ++v) {
+      Vec2 p = local_texel(t, static_cast<int>(v), found);
+      uv[v] = {(p.x + best[i].at.x + margin) / texture_size, (p.y + best[i].at.y + margin) / texture_size};
+    }
+  }
+  result.scale = found;
+  return result;
+}
+
+}  // namespace soupuv::atlas
