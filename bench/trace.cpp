@@ -168,17 +168,19 @@ Shifts end_shifts(const FieldLines& a, const FieldLines& b) {
   return s;
 }
 
-// The tracer's FMM for Table 5: p = 7, theta = 0.45, 16-triangle leaves. On
-// a 12,800-triangle torus (400 points 1e-4 .. 0.4 above the surface) this
-// gave max field rel. error 1.2e-4 (median 2.4e-6; the max sits in the hole,
-// where |E| is a tenth of the surface field), against p = 6, theta = 0.5:
-// 1.5e-3 and p = 6, theta = 0.4: 2.3e-4; 16-triangle leaves were the
-// cheapest of 8/16/32 at theta 0.4 (busy machine, see the report).
+// The tracer's FMM for Table 5: p = 7, theta = 0.45, 32-triangle leaves. On
+// a 12,800-triangle torus (400 points 1e-4 .. 0.4 above the surface) p = 7,
+// theta = 0.45 gave max field rel. error 1.2e-4 (median 2.4e-6; the max sits
+// in the hole, where |E| is a tenth of the surface field), against p = 6,
+// theta = 0.5: 1.5e-3 and p = 6, theta = 0.4: 2.3e-4 (session 2). With the
+// float near field, 32-triangle leaves beat 16 (fewer M2L; see
+// TraceOptions::fmm_leaf_size); p = 6 theta = 0.4 with coarser target leaves
+// was slower and over 1e-4 (2.0e-4 .. 2.5e-4 sampled along the lines).
 TraceOptions table5_fmm() {
   TraceOptions o;
   o.fmm_order = 7;
   o.fmm_theta = 0.45;
-  o.fmm_leaf_size = 16;
+  o.fmm_leaf_size = 32;
   return o;
 }
 
@@ -201,6 +203,8 @@ void run_table5(const Flags& f, const bench::Args& args) {
   std::vector<int> sizes = {800, 1800, 3200, 6400, 12800, 25600, 51200, 105800, 204800};
   std::vector<double> fx, fy, fc, dx, dy, dc;
   double ratio_at_max_direct = NAN, fmm_at_max_direct = NAN, cpu_ratio_at_max_direct = NAN;
+  // Per size: CPU microseconds per field evaluation of the FMM run.
+  nlohmann::json cpu_per_eval_us = nlohmann::json::object();
   for (int n : sizes) {
     if (static_cast<size_t>(n) > f.max_tris) break;
     if (static_cast<size_t>(n) < f.min_tris) continue;
@@ -234,6 +238,9 @@ void run_table5(const Flags& f, const bench::Args& args) {
                  {"field_magnitude_at_worst", err.field_at_worst},
                  {"error_samples", err.samples}, {"error_samples_near_fraction", err.near_fraction},
                  {"fmm_order", o.fmm_order}, {"fmm_theta", o.fmm_theta}, {"fmm_leaf_size", o.fmm_leaf_size},
+                 {"cpu_per_evaluation_us", 1e6 * cpu_fmm / double(st.evaluations)},
+                 {"escaped", st.escaped}, {"step_limit", st.step_limit}, {"stalled", st.stalled},
+                 {"trapped", st.trapped},
                  {"peak_rss_mb", bench::peak_rss_mb()}});
     std::fprintf(stderr, "trace fmm n=%d lines=%zu: %.2fs (build %.2fs, cpu %.2fs)", n, lines.size(), st.seconds,
                  st.build_seconds, cpu_fmm);
@@ -241,6 +248,7 @@ void run_table5(const Flags& f, const bench::Args& args) {
       std::fprintf(stderr, " err max %.1e p99 %.1e median %.1e (far %.1e, near %.0f%%)", err.max, err.p99, err.median,
                    err.max_far, 100 * err.near_fraction);
     std::fprintf(stderr, "\n");
+    cpu_per_eval_us[std::to_string(n)] = 1e6 * cpu_fmm / double(st.evaluations);
     fx.push_back(n);
     fy.push_back(st.seconds);
     fc.push_back(cpu_fmm);
@@ -282,9 +290,12 @@ void run_table5(const Flags& f, const bench::Args& args) {
                {"direct_over_fmm_cpu_at_largest_direct", cpu_ratio_at_max_direct},
                {"slope_fmm_from", fx.empty() ? 0.0 : fx.front()}, {"slope_fmm_to", fx.empty() ? 0.0 : fx.back()},
                {"direct_over_fmm_at_largest_direct", ratio_at_max_direct},
+               {"cpu_per_evaluation_us", cpu_per_eval_us},
                {"fmm_seconds_at_largest_direct", fmm_at_max_direct},
                {"largest_direct_triangles", dx.empty() ? 0.0 : dx.back()},
-               {"fmm_seconds_at_largest", fy.empty() ? NAN : fy.back()}});
+               {"fmm_seconds_at_largest", fy.empty() ? NAN : fy.back()},
+               {"fmm_cpu_seconds_at_largest", fc.empty() ? NAN : fc.back()},
+               {"largest_triangles", fx.empty() ? 0.0 : fx.back()}});
 }
 
 // Which accuracy is enough: end points against a reference charged to 1e-8

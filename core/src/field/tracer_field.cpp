@@ -6,12 +6,14 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <memory>
 
 #include "soupuv/field/quadrature.h"
 #include "soupuv/field/sources.h"
 #include "soupuv/field/triangle_integrals.h"
 #include "tracer_closed_form.h"
 #include "tracer_kernels.h"
+#include "tracer_l2p.h"
 
 namespace soupuv::field {
 
@@ -25,6 +27,31 @@ struct TracerField::NearTriangle {
 };
 
 TracerField::~TracerField() = default;
+
+// The near triangles of one point that take a float rule, collected so the
+// kernel sums them in one go (tracer::rule_field_batch).
+struct TracerField::RuleBatch {
+  static constexpr int kMax = 32;
+  float mid[kMax * 10], split[kMax * 10];  // per triangle: A, B, C relative to x, charge
+  int n_mid = 0, n_split = 0;
+
+  void add(bool whole, Vec3 x, const tracer::TriangleFrame& f, double q, double* e) {
+    float* t = whole ? &mid[10 * n_mid++] : &split[10 * n_split++];
+    for (int v = 0; v < 3; ++v) {
+      const Vec3 d = f.v[v] - x;
+      t[3 * v] = static_cast<float>(d.x);
+      t[3 * v + 1] = static_cast<float>(d.y);
+      t[3 * v + 2] = static_cast<float>(d.z);
+    }
+    t[9] = static_cast<float>(q);
+    if (n_mid == kMax || n_split == kMax) flush(e);
+  }
+  void flush(double* e) {
+    if (n_mid) tracer::rule_field_batch(tracer::degree6_rule(), mid, n_mid, e);
+    if (n_split) tracer::rule_field_batch(tracer::degree6_children_rule(), split, n_split, e);
+    n_mid = n_split = 0;
+  }
+};
 
 namespace {
 
@@ -60,7 +87,8 @@ TracerField::TracerField(const Fmm& fmm, const std::vector<double>& charges, int
     : fmm_(fmm),
       m_(fmm.src_.points_per_triangle),
       threads_(threads > 0 ? threads : omp_get_max_threads()),
-      ncoef_(fmm.ncoef_) {
+      ncoef_(fmm.ncoef_),
+      field_expansion_(std::make_unique<tracer::FieldExpansion>(fmm.basis_)) {
   const SourceGeometry& src = fmm.src_;
   const size_t n = fmm.order_.size();
   pq_.resize(n * m_);
@@ -171,6 +199,8 @@ void TracerField::prepare(const std::vector<int>& leaves) {
   size_t next = L_.size() / ncoef_;
   for (int c : todo) slot_[c] = static_cast<int>(next++);
   L_.resize(next * ncoef_, 0.0);
+  const int gsize = field_expansion_->size();
+  G_.resize(next * gsize, 0.0);
   size_t ops = 0;
   for (size_t s = 0; s < todo.size();) {
     size_t e = s;
@@ -187,6 +217,7 @@ void TracerField::prepare(const std::vector<int>& leaves) {
       for (int B : fmm_.m2l_[c])
         fmm_.basis_.m2l(&M_[static_cast<size_t>(B) * ncoef_], cell.center - fmm_.scells_[B].mc, L);
       ops += fmm_.m2l_[c].size();
+      field_expansion_->from_local(L, &G_[static_cast<size_t>(slot_[c]) * gsize]);
     }
     s = e;
   }
@@ -234,9 +265,9 @@ void TracerField::field(int leaf, const Vec3* x, int count, Vec3* E, double* nea
     return;
   }
   const auto& cell = fmm_.tcells_[leaf];
-  const double* L = &L_[static_cast<size_t>(slot_[leaf]) * ncoef_];
+  const double* G = &G_[static_cast<size_t>(slot_[leaf]) * field_expansion_->size()];
   for (int i = 0; i < count; ++i) {
-    fmm_.basis_.l2p(L, x[i] - cell.center, nullptr, &E[i]);
+    field_expansion_->evaluate(G, x[i] - cell.center, &E[i]);
     if (nearest) nearest[i] = inf;
   }
   const int m = m_;
@@ -245,26 +276,30 @@ void TracerField::field(int leaf, const Vec3* x, int count, Vec3* E, double* nea
   constexpr int kGroups = 16;
   uint8_t bits[kGroups];
   const int gf = tracer::group_floats(m);
-  for (int B : fmm_.near_[leaf]) {
-    const Span& s = spans_[span_of_cell_[B]];
-    for (int i = 0; i < count; ++i) {
+  // Point by point: a point's near triangles that take a float rule are
+  // batched over its whole near list.
+  RuleBatch batch;
+  for (int i = 0; i < count; ++i) {
+    double e[3] = {0, 0, 0};
+    double* near_i = nearest ? &nearest[i] : nullptr;
+    for (int B : fmm_.near_[leaf]) {
+      const Span& s = spans_[span_of_cell_[B]];
       float xf[3];
       to_float(x[i] - s.mc, xf);
-      double e[3] = {0, 0, 0};
       for (int g0 = 0; g0 < s.groups; g0 += kGroups) {
         const int ng = std::min(kGroups, s.groups - g0);
         tracer::span_field(&blocks_[s.block + static_cast<size_t>(g0) * gf], ng, m, xf, e, bits);
         for (int g = 0; g < ng; ++g)
           for (unsigned b = bits[g]; b != 0; b &= b - 1)
-            near_candidate(s.first + (g0 + g) * tracer::kLanes + __builtin_ctz(b), x[i], e,
-                           nearest ? &nearest[i] : nullptr);
+            near_candidate(s.first + (g0 + g) * tracer::kLanes + __builtin_ctz(b), x[i], e, near_i, batch);
       }
-      E[i] += Vec3{e[0], e[1], e[2]};
     }
+    batch.flush(e);
+    E[i] += Vec3{e[0], e[1], e[2]};
   }
 }
 
-void TracerField::near_candidate(int k, Vec3 x, double* e, double* nearest) const {
+void TracerField::near_candidate(int k, Vec3 x, double* e, double* nearest, RuleBatch& batch) const {
   const NearTriangle& t = near_tris_[k];
   const double q = tri_charge_[k];
   const double d2 = norm2(x - t.centroid);
@@ -280,12 +315,7 @@ void TracerField::near_candidate(int k, Vec3 x, double* e, double* nearest) cons
   if (!(t.area > 0)) return;
   const double r = t.radius;
   if (!(d2 < t.closed2) || (d2 >= kSplitFactor * kSplitFactor * r * r && kSplitFactor < fmm_.src_.closed_factor)) {
-    float A[3], B[3], C[3];
-    to_float(t.frame.v[0] - x, A);
-    to_float(t.frame.v[1] - x, B);
-    to_float(t.frame.v[2] - x, C);
-    const auto& rule = d2 < t.closed2 ? tracer::degree6_children_rule() : tracer::degree6_rule();
-    tracer::rule_field(rule, A, B, C, static_cast<float>(q), e);
+    batch.add(!(d2 < t.closed2), x, t.frame, q, e);
   } else {
     const Vec3 f = (q / t.area) * tracer::closed_form_field(t.frame, x);
     e[0] += f.x;
@@ -300,7 +330,7 @@ void TracerField::near_candidate(int k, Vec3 x, double* e, double* nearest) cons
 }
 
 size_t TracerField::memory_bytes() const {
-  return (pq_.size() + tri_charge_.size() + M_.size() + L_.size()) * sizeof(double) +
+  return (pq_.size() + tri_charge_.size() + M_.size() + L_.size() + G_.size()) * sizeof(double) +
          near_tris_.size() * sizeof(NearTriangle) +
          blocks_.size() * sizeof(float) + (span_of_cell_.size() + slot_.size()) * sizeof(int) +
          spans_.size() * sizeof(Span);

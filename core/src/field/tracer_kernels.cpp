@@ -71,6 +71,13 @@ void rule_field_scalar(const FloatRule& rule, const float A[3], const float B[3]
   e[2] += q * ez;
 }
 
+void rule_field_batch_scalar(const FloatRule& rule, const float* tri, int count, double* e) {
+  for (int t = 0; t < count; ++t) {
+    const float* p = tri + 10 * t;
+    rule_field_scalar(rule, p, p + 3, p + 6, p[9], e);
+  }
+}
+
 #ifdef SOUPUV_X86_KERNELS
 __attribute__((target("avx2,fma"))) inline __m256 inv_sqrt(__m256 r2) {
   const __m256 y = _mm256_rsqrt_ps(r2);
@@ -142,6 +149,52 @@ __attribute__((target("avx2,fma"))) void rule_field_avx2(const FloatRule& rule, 
   e[2] += q * hsum(ez);
 }
 
+// Adds the 8 float lanes of v to the 4 double lanes of acc.
+__attribute__((target("avx2,fma"))) inline __m256d add_wide(__m256d acc, __m256 v) {
+  acc = _mm256_add_pd(acc, _mm256_cvtps_pd(_mm256_castps256_ps128(v)));
+  return _mm256_add_pd(acc, _mm256_cvtps_pd(_mm256_extractf128_ps(v, 1)));
+}
+
+__attribute__((target("avx2,fma"))) void rule_field_batch_avx2(const FloatRule& rule, const float* tri, int count,
+                                                                double* e) {
+  // Each triangle's points are summed in float, the triangles in double: the
+  // near triangles' fields largely cancel, and a float sum over all of them
+  // measurably lost digits (4.8e-6 rel. against 8.7e-7 with double sums).
+  __m256d sx = _mm256_setzero_pd(), sy = sx, sz = sx;
+  for (int t = 0; t < count; ++t) {
+    const float* p = tri + 10 * t;
+    const __m256 ax = _mm256_set1_ps(p[0]), ay = _mm256_set1_ps(p[1]), az = _mm256_set1_ps(p[2]);
+    const __m256 bx = _mm256_set1_ps(p[3]), by = _mm256_set1_ps(p[4]), bz = _mm256_set1_ps(p[5]);
+    const __m256 cx = _mm256_set1_ps(p[6]), cy = _mm256_set1_ps(p[7]), cz = _mm256_set1_ps(p[8]);
+    const __m256 q = _mm256_set1_ps(p[9]);
+    __m256 ex = _mm256_setzero_ps(), ey = ex, ez = ex;
+    for (int k = 0; k < rule.padded; k += kLanes) {
+      const __m256 l0 = _mm256_load_ps(rule.l0 + k), l1 = _mm256_load_ps(rule.l1 + k),
+                   l2 = _mm256_load_ps(rule.l2 + k);
+      const __m256 px = _mm256_fmadd_ps(l2, cx, _mm256_fmadd_ps(l1, bx, _mm256_mul_ps(l0, ax)));
+      const __m256 py = _mm256_fmadd_ps(l2, cy, _mm256_fmadd_ps(l1, by, _mm256_mul_ps(l0, ay)));
+      const __m256 pz = _mm256_fmadd_ps(l2, cz, _mm256_fmadd_ps(l1, bz, _mm256_mul_ps(l0, az)));
+      const __m256 r2 = _mm256_fmadd_ps(pz, pz, _mm256_fmadd_ps(py, py, _mm256_mul_ps(px, px)));
+      const __m256 inv = inv_sqrt(r2);
+      const __m256 qw = _mm256_mul_ps(q, _mm256_load_ps(rule.w + k));
+      const __m256 w3 = _mm256_mul_ps(_mm256_mul_ps(qw, inv), _mm256_mul_ps(inv, inv));
+      ex = _mm256_fnmadd_ps(w3, px, ex);
+      ey = _mm256_fnmadd_ps(w3, py, ey);
+      ez = _mm256_fnmadd_ps(w3, pz, ez);
+    }
+    sx = add_wide(sx, ex);
+    sy = add_wide(sy, ey);
+    sz = add_wide(sz, ez);
+  }
+  alignas(32) double d[4];
+  _mm256_store_pd(d, sx);
+  e[0] += (d[0] + d[1]) + (d[2] + d[3]);
+  _mm256_store_pd(d, sy);
+  e[1] += (d[0] + d[1]) + (d[2] + d[3]);
+  _mm256_store_pd(d, sz);
+  e[2] += (d[0] + d[1]) + (d[2] + d[3]);
+}
+
 const bool kHasAvx2 = __builtin_cpu_supports("avx2") && __builtin_cpu_supports("fma");
 #endif
 
@@ -176,6 +229,13 @@ void rule_field(const FloatRule& rule, const float A[3], const float B[3], const
   if (kHasAvx2) return rule_field_avx2(rule, A, B, C, q, e);
 #endif
   rule_field_scalar(rule, A, B, C, q, e);
+}
+
+void rule_field_batch(const FloatRule& rule, const float* tri, int count, double* e) {
+#ifdef SOUPUV_X86_KERNELS
+  if (kHasAvx2) return rule_field_batch_avx2(rule, tri, count, e);
+#endif
+  rule_field_batch_scalar(rule, tri, count, e);
 }
 
 const FloatRule& degree6_rule() {

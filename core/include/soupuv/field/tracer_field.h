@@ -34,12 +34,17 @@
 #pragma once
 
 #include <cstddef>
+#include <memory>
 #include <vector>
 
 #include "soupuv/field/fmm.h"
 #include "soupuv/vec.h"
 
 namespace soupuv::field {
+
+namespace tracer {
+class FieldExpansion;
+}
 
 class TracerField {
  public:
@@ -78,9 +83,11 @@ class TracerField {
   };
 
   // A triangle (tree position k) the float kernel flagged as possibly near
-  // x: adds its field at x to e[0..3) by the model's rule and lowers
-  // *nearest (if given) to its distance when it is near.
-  void near_candidate(int k, Vec3 x, double* e, double* nearest) const;
+  // x: adds its field at x to e[0..3) by the model's rule (float rules via
+  // `batch`, summed when the caller flushes it) and lowers *nearest (if
+  // given) to its distance when it is near.
+  struct RuleBatch;  // tracer_field.cpp
+  void near_candidate(int k, Vec3 x, double* e, double* nearest, RuleBatch& batch) const;
   // Field and nearest near triangle at a point outside the target tree.
   void field_outside(Vec3 x, Vec3* E, double* nearest) const;
   void upward_pass();
@@ -99,6 +106,9 @@ class TracerField {
   std::vector<double> M_;                  // multipole moments, ncoef_ per source cell
   std::vector<int> slot_;                  // per target cell: its local expansion in L_, or -1
   std::vector<double> L_;                  // ncoef_ per computed target cell
+  // Each computed local expansion also as its field polynomials (tracer_l2p.h).
+  std::unique_ptr<tracer::FieldExpansion> field_expansion_;
+  std::vector<double> G_;
   size_t expansions_ = 0, m2l_ops_ = 0;
 };
 
