@@ -149,13 +149,24 @@ void measure(const TriMesh& mesh, const TriangleBvh& soup_bvh, const std::vector
   r.encloses = outside == 0;
 
   progress.update("proxy: checks", 0.5);
+  // Every vertex and every face centroid, once each. Queries answer exactly
+  // below 2o (the proxy lies near d = o, so the minimum is far below that;
+  // a minimum >= 2o would be reported as 2o) and start from the previous
+  // query's closest triangle: both let the BVH prune from the start.
+  const double cap = 2 * offset;
   double min_d = INFINITY;
-#pragma omp parallel for schedule(dynamic, 1024) reduction(min : min_d)
-  for (long f = 0; f < long(mesh.faces.size()); ++f) {
-    const auto& t = mesh.faces[f];
-    Vec3 a = mesh.vertices[t[0]], b = mesh.vertices[t[1]], c = mesh.vertices[t[2]];
-    // Vertices are visited once per incident face: cheap enough, no bookkeeping.
-    min_d = std::min({min_d, soup_bvh.distance(a), soup_bvh.distance((a + b + c) / 3.0)});
+#pragma omp parallel reduction(min : min_d)
+  {
+    uint32_t warm = UINT32_MAX;
+#pragma omp for schedule(static)
+    for (long v = 0; v < long(mesh.vertices.size()); ++v)
+      min_d = std::min(min_d, soup_bvh.distance(mesh.vertices[size_t(v)], 0, cap, &warm));
+#pragma omp for schedule(static)
+    for (long f = 0; f < long(mesh.faces.size()); ++f) {
+      const auto& t = mesh.faces[size_t(f)];
+      Vec3 centroid = (mesh.vertices[t[0]] + mesh.vertices[t[1]] + mesh.vertices[t[2]]) / 3.0;
+      min_d = std::min(min_d, soup_bvh.distance(centroid, 0, cap, &warm));
+    }
   }
   r.min_distance = mesh.faces.empty() ? 0 : min_d;
   r.min_distance_ratio = r.min_distance / offset;

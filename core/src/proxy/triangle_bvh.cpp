@@ -63,16 +63,14 @@ double box_box_distance2(const Box3& a, const Box3& b) {
 
 // Slab test; true when the ray p + t*dir (t >= 0) meets the box.
 bool ray_hits_box(const Box3& box, Vec3 p, Vec3 inv_dir) {
-  double t0 = 0, t1 = INFINITY;
-  for (int k = 0; k < 3; ++k) {
-    double a = (box.lo[k] - p[k]) * inv_dir[k];
-    double b = (box.hi[k] - p[k]) * inv_dir[k];
-    if (a > b) std::swap(a, b);
-    t0 = std::max(t0, a);
-    t1 = std::min(t1, b);
-    if (t0 > t1) return false;
-  }
-  return true;
+  // Per axis without Vec3::operator[] (a branch per access): this runs for
+  // every node a ray visits.
+  double ax = (box.lo.x - p.x) * inv_dir.x, bx = (box.hi.x - p.x) * inv_dir.x;
+  double ay = (box.lo.y - p.y) * inv_dir.y, by = (box.hi.y - p.y) * inv_dir.y;
+  double az = (box.lo.z - p.z) * inv_dir.z, bz = (box.hi.z - p.z) * inv_dir.z;
+  double t0 = std::max({0.0, std::min(ax, bx), std::min(ay, by), std::min(az, bz)});
+  double t1 = std::min({std::max(ax, bx), std::max(ay, by), std::max(az, bz)});
+  return t0 <= t1;
 }
 
 // GCC/Clang vector extensions: four floats per operation on any x86-64
@@ -380,7 +378,7 @@ double TriangleBvh::distance(Vec3 p, double lo, double hi, uint32_t* nearest) co
 RayParity TriangleBvh::ray_parity(Vec3 p, Vec3 dir) const {
   if (nodes_.empty()) return RayParity::outside;
   Vec3 inv{1.0 / dir.x, 1.0 / dir.y, 1.0 / dir.z};
-  const double eps = 1e-9;
+  const double eps = 1e-9, dir2 = norm2(dir);
   int crossings = 0;
   uint32_t stack[128];
   int top = 0;
@@ -400,8 +398,10 @@ RayParity TriangleBvh::ray_parity(Vec3 p, Vec3 dir) const {
       Vec3 e1 = t[1] - t[0], e2 = t[2] - t[0];
       Vec3 pv = cross(dir, e2);
       double det = dot(e1, pv);
-      double scale = norm(e1) * norm(e2) * norm(dir);
-      if (std::fabs(det) <= 1e-12 * scale) continue;  // parallel to the plane
+      // |det| <= 1e-12 |e1| |e2| |dir|, squared: no square roots for the
+      // many triangles rejected below.
+      double l1 = norm2(e1), l2 = norm2(e2);
+      if (det * det <= 1e-24 * l1 * l2 * dir2) continue;  // parallel to the plane
       double inv_det = 1.0 / det;
       Vec3 tv = p - t[0];
       double u = dot(tv, pv) * inv_det;
@@ -410,7 +410,7 @@ RayParity TriangleBvh::ray_parity(Vec3 p, Vec3 dir) const {
       double v = dot(dir, qv) * inv_det;
       if (v < -eps || u + v > 1 + eps) continue;
       double s = dot(e2, qv) * inv_det;
-      double size = std::max(norm(e1), norm(e2)) / norm(dir);
+      double size = std::sqrt(std::max(l1, l2) / dir2);
       if (s < -eps * size) continue;
       if (s <= eps * size || u <= eps || v <= eps || u + v >= 1 - eps) return RayParity::uncertain;
       ++crossings;

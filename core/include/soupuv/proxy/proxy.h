@@ -90,7 +90,7 @@ struct ProxyResult {
   int inner_components = 0;      // dropped (cavities inside another component)
   bool encloses = false;         // every soup vertex is inside the proxy
   size_t soup_vertices_outside = 0;
-  double min_distance = 0;       // min over proxy vertices and face centroids of d(x, soup)
+  double min_distance = 0;       // min over proxy vertices and face centroids of d(x, soup) (capped at 2 o)
   double min_distance_ratio = 0; // min_distance / offset (>= 0.5 required)
   bool self_intersections_checked = false;
   bool self_intersections = false;
