@@ -9,6 +9,7 @@
 #include <omp.h>
 
 #include "edge_vertex_weld.h"
+#include "first_error.h"
 #include "soupuv/errors.h"
 
 namespace soupuv::proxy {
@@ -155,6 +156,7 @@ TriMesh marching_cubes(const NarrowBand& band, Progress& progress) {
   std::vector<std::vector<EdgeVertex>> vertices(threads);
   std::vector<std::vector<std::array<uint64_t, 3>>> triangles(threads);
   long n_cells = long(band.cells.size());
+  FirstError errors;
 #pragma omp parallel
   {
     int me = omp_get_thread_num();
@@ -163,11 +165,13 @@ TriMesh marching_cubes(const NarrowBand& band, Progress& progress) {
     // per-thread lists concatenated in thread order are in cell order — the
     // same mesh for every thread count (the edge collapse depends on face order).
 #pragma omp for schedule(static)
-    for (long n = 0; n < n_cells; ++n) {
-      if (me == 0 && n % 4096 == 0) progress.update("proxy: marching cubes", double(n) / n_cells);
-      mesher.run(size_t(n));
-    }
+    for (long n = 0; n < n_cells; ++n)
+      errors.run([&] {
+        if (me == 0 && n % 4096 == 0) progress.update("proxy: marching cubes", double(n) / n_cells);
+        mesher.run(size_t(n));
+      });
   }
+  errors.rethrow();
   return weld_edge_vertices(vertices, triangles);
 }
 

@@ -3,6 +3,10 @@
 // genus and component counts the shape dictates.
 #include <gtest/gtest.h>
 
+#include <atomic>
+#include <memory>
+#include <string_view>
+
 #include "proxy_expect.h"
 #include "soupuv/errors.h"
 #include "soupuv/proxy/offset_policy.h"
@@ -176,6 +180,29 @@ TEST(BuildProxy, ErrorsAndCancel) {
   } catch (const Error& e) {
     EXPECT_EQ(e.code(), ErrorCode::canceled);
   }
+}
+
+// A cancel that arrives while marching cubes runs (inside its OpenMP region,
+// where an escaping exception would terminate the process) comes out as
+// Error{canceled}.
+TEST(BuildProxy, CancelDuringMarchingCubesThrowsCanceled) {
+  Soup soup = shapes::to_soup(shapes::icosphere(1.0, 3));
+  std::shared_ptr<std::atomic<bool>> token;
+  bool reached = false;
+  Progress progress([&](std::string_view stage, double) {
+    if (stage == "proxy: marching cubes") {
+      reached = true;
+      token->store(true);
+    }
+  });
+  token = progress.cancel_token();
+  try {
+    build_proxy(soup, relative(0.01), progress);
+    FAIL() << "not canceled";
+  } catch (const Error& e) {
+    EXPECT_EQ(e.code(), ErrorCode::canceled);
+  }
+  EXPECT_TRUE(reached);
 }
 
 TEST(BuildProxy, DiagnosticsJsonCarriesTheChecks) {
