@@ -49,6 +49,27 @@ namespace {
 
 using Clock = std::chrono::steady_clock;
 
+// Sorts keys by their high 32 bits, stably (LSD radix sort, two 16-bit
+// digits): the keys are built in point order, so points of one leaf stay in
+// order. A comparison sort of every batch was a serial step per evaluation
+// round while the other threads waited.
+void sort_by_high_word(std::vector<uint64_t>& keys, std::vector<uint64_t>& scratch) {
+  scratch.resize(keys.size());
+  std::vector<uint32_t> count(1 << 16);
+  for (int shift : {32, 48}) {
+    std::fill(count.begin(), count.end(), 0u);
+    for (uint64_t k : keys) ++count[(k >> shift) & 0xffff];
+    uint32_t sum = 0;
+    for (uint32_t& c : count) {
+      const uint32_t here = c;
+      c = sum;
+      sum += here;
+    }
+    for (uint64_t k : keys) scratch[count[(k >> shift) & 0xffff]++] = k;
+    keys.swap(scratch);
+  }
+}
+
 // Field at a batch of points: E[i] (overwritten) and, when `nearest` is given,
 // the distance to the nearest near-rule triangle. `leaf` caches each point's
 // target leaf between calls (a point usually stays in or near its leaf).
@@ -82,7 +103,7 @@ class BatchField {
     keys_.resize(n);
     for (long i = 0; i < n; ++i)
       keys_[i] = (static_cast<uint64_t>(static_cast<uint32_t>(leaf[i] + 1)) << 32) | static_cast<uint32_t>(i);
-    std::sort(keys_.begin(), keys_.end());
+    sort_by_high_word(keys_, scratch_);
     constexpr long kChunk = 32;
     chunks_.clear();
     leaves_.clear();
@@ -144,7 +165,7 @@ class BatchField {
   int threads_;
   std::unique_ptr<Fmm> fmm_;
   std::unique_ptr<TracerField> tracer_;
-  std::vector<uint64_t> keys_;
+  std::vector<uint64_t> keys_, scratch_;
   std::vector<std::pair<long, long>> chunks_;
   std::vector<int> leaves_;
 };
