@@ -25,6 +25,16 @@ void inverse_distances(const double* px, const double* py, const double* pz, siz
     inv[t] = 1.0 / std::sqrt(dx * dx + dy * dy + dz * dz);
   }
 }
+
+// sum_k a[k] * b[k]; the simd reduction lets the compiler keep several
+// partial sums (one running sum is bound by the add latency).
+__attribute__((target_clones("avx2", "default")))
+double dot_float_double(const float* a, const double* b, size_t m) {
+  double s = 0;
+#pragma omp simd reduction(+ : s)
+  for (size_t k = 0; k < m; ++k) s += static_cast<double>(a[k]) * b[k];
+  return s;
+}
 }  // namespace
 
 CollocationOperator::CollocationOperator(const SourceGeometry& sources, const FmmOptions& options,
@@ -50,8 +60,9 @@ CollocationOperator::CollocationOperator(const SourceGeometry& sources, const Fm
     near_start_[i + 1] = near_start_[i] + cols.size();
   }
   near_val_.resize(near_start_[n]);
-  std::vector<std::vector<uint32_t>> rows(leaf_cols_.size());
-  for (long i = 0; i < n; ++i) rows[leaf_[i]].push_back(static_cast<uint32_t>(i));
+  leaf_rows_.resize(leaf_cols_.size());
+  for (long i = 0; i < n; ++i) leaf_rows_[leaf_[i]].push_back(static_cast<uint32_t>(i));
+  const auto& rows = leaf_rows_;
   const int m = src_.points_per_triangle;
 #pragma omp parallel num_threads(threads_)
   {
@@ -107,24 +118,23 @@ void CollocationOperator::apply_order(const std::vector<double>& q, std::vector<
 
 void CollocationOperator::apply_with(Fmm& f, const std::vector<double>& q, std::vector<double>& phi) const {
   f.set_charges(q);
-  const long n = static_cast<long>(src_.size());
-  phi.resize(n);
-#pragma omp parallel for num_threads(threads_) schedule(dynamic, 256)
-  for (long i = 0; i < n; ++i) {
-    double s = f.far_potential(leaf_[i], src_.centroid[i]);
-    const float* val = &near_val_[near_start_[i]];
-    const auto& cols = leaf_cols_[leaf_[i]];
-    const size_t m = cols.size();
-    double s1 = 0, s2 = 0, s3 = 0;  // independent sums: not bound by the add latency
-    size_t k = 0;
-    for (; k + 4 <= m; k += 4) {
-      s += static_cast<double>(val[k]) * q[cols[k]];
-      s1 += static_cast<double>(val[k + 1]) * q[cols[k + 1]];
-      s2 += static_cast<double>(val[k + 2]) * q[cols[k + 2]];
-      s3 += static_cast<double>(val[k + 3]) * q[cols[k + 3]];
+  phi.resize(src_.size());
+  // By target leaf: its rows share one column list, so the charges are
+  // gathered once per leaf and each row is a contiguous dot product.
+#pragma omp parallel num_threads(threads_)
+  {
+    std::vector<double> qc;
+#pragma omp for schedule(dynamic, 8)
+    for (long leaf = 0; leaf < static_cast<long>(leaf_rows_.size()); ++leaf) {
+      const auto& rows = leaf_rows_[leaf];
+      if (rows.empty()) continue;
+      const auto& cols = leaf_cols_[leaf];
+      qc.resize(cols.size());
+      for (size_t k = 0; k < cols.size(); ++k) qc[k] = q[cols[k]];
+      for (uint32_t i : rows)
+        phi[i] = f.far_potential(static_cast<int>(leaf), src_.centroid[i]) +
+                 dot_float_double(&near_val_[near_start_[i]], qc.data(), cols.size());
     }
-    for (; k < m; ++k) s += static_cast<double>(val[k]) * q[cols[k]];
-    phi[i] = (s + s1) + (s2 + s3);
   }
 }
 

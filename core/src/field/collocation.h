@@ -60,6 +60,7 @@ class CollocationOperator {
   // itself, so for the (positive) charges the near sum is off by < 6e-8
   // relative: far under the FMM's own error.
   std::vector<std::vector<uint32_t>> leaf_cols_;   // per target leaf
+  std::vector<std::vector<uint32_t>> leaf_rows_;   // per target leaf: the centroids in it
   std::vector<size_t> near_start_;                 // per target: offset into near_val_
   std::vector<float> near_val_;
   double setup_seconds_ = 0;
