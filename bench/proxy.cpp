@@ -192,9 +192,11 @@ void samples(bool quick) {
       ++skipped;
       continue;
     }
-    // Quick: only the small files, so the run stays about a minute.
-    if (quick && soup.triangles.size() > 20000) continue;
+    // Quick: a smoke test (files under 5,000 triangles, resolution capped at
+    // 64), so the whole --quick run stays about a minute.
+    if (quick && soup.triangles.size() > 5000) continue;
     proxy::ProxyOptions o;  // the defaults: automatic offset, sampling resolution, no cap
+    if (quick) o.max_resolution = 64;
     reset_peak_rss();
     double cpu0 = cpu_seconds();
     auto r = proxy::build_proxy(soup, o);
