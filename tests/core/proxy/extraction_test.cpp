@@ -4,6 +4,8 @@
 // outside corners"), and topology invariants before and after collapsing.
 #include <gtest/gtest.h>
 
+#include <omp.h>
+
 #include <cmath>
 #include <random>
 
@@ -143,6 +145,29 @@ TEST(ProxyExtraction, CollapseKeepsTopologyAndCoarsens) {
   EXPECT_EQ(check_topology(coarse).euler(), check_topology(raw).euler());
   EXPECT_EQ(find_components(coarse).count, find_components(raw).count);
   EXPECT_LT(coarse.faces.size(), raw.faces.size());
+}
+
+// The slab-parallel collapse gives the same mesh for 1, 2 and 3 threads
+// (slabs are fixed, not per thread), and so do marching cubes.
+TEST(ProxyExtraction, CollapseAndMarchingCubesDoNotDependOnTheThreadCount) {
+  Soup torus = shapes::to_soup(shapes::torus(1.0, 0.3, 48, 16));
+  TriangleBvh bvh(torus);
+  NarrowBand band = build_narrow_band(bvh, bounding_box(torus), 0.1, 0.02, Progress::none());
+  const int saved = omp_get_max_threads();
+  std::vector<TriMesh> results;
+  for (int threads : {1, 2, 3}) {
+    omp_set_num_threads(threads);
+    TriMesh raw = marching_cubes(band, Progress::none());
+    results.push_back(collapse_short_edges(raw, 0.1, 0.25));
+  }
+  omp_set_num_threads(saved);
+  ASSERT_GT(results[0].faces.size(), 100u);
+  for (size_t r = 1; r < results.size(); ++r) {
+    EXPECT_EQ(results[r].faces, results[0].faces);
+    ASSERT_EQ(results[r].vertices.size(), results[0].vertices.size());
+    for (size_t v = 0; v < results[0].vertices.size(); ++v)
+      EXPECT_EQ(norm(results[r].vertices[v] - results[0].vertices[v]), 0.0);
+  }
 }
 
 // A sphere of radius 0.6 around a soup sphere of radius 0.2 sits at d = 0.4;

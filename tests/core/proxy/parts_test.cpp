@@ -111,6 +111,38 @@ TEST(ProxyParts, GatheredCandidatesGiveExactDistancesInTheirBox) {
   EXPECT_GT(total, 0u);
 }
 
+// A parent's list narrowed to a child box (TriangleBvh::narrow, what the
+// narrow band does for the cells under one grandparent) is as good as a
+// list gathered for the child itself: exact distances everywhere in the child.
+TEST(ProxyParts, NarrowedCandidatesGiveExactDistancesInTheChildBox) {
+  Soup soup = shapes::to_soup(shapes::torus(1.0, 0.3, 24, 12), 0.01, 3);
+  TriangleBvh bvh(soup);
+  std::mt19937 rng(13);
+  std::uniform_real_distribution<double> u(-1.6, 1.6), s(0.02, 0.3), t(0.0, 1.0);
+  size_t parent_total = 0, child_total = 0;
+  for (int b = 0; b < 60; ++b) {
+    Vec3 c{u(rng), u(rng), u(rng) * 0.5};
+    double half = s(rng);
+    Box3 parent{c - Vec3{half, half, half}, c + Vec3{half, half, half}};
+    CandidateList parent_list, child_list;
+    bvh.gather(parent, bvh.distance(c) + std::sqrt(3.0) * half, parent_list);
+    // One octant of the parent, with its own (smaller) radius.
+    Vec3 lo{t(rng) < 0.5 ? parent.lo.x : c.x, t(rng) < 0.5 ? parent.lo.y : c.y, t(rng) < 0.5 ? parent.lo.z : c.z};
+    Box3 child{lo, lo + Vec3{half, half, half}};
+    bvh.narrow(parent_list, child, bvh.distance(child.center()) + std::sqrt(3.0) * half / 2, child_list);
+    parent_total += parent_list.size();
+    child_total += child_list.size();
+    for (int i = 0; i < 20; ++i) {
+      Vec3 p = child.lo + Vec3{t(rng) * half, t(rng) * half, t(rng) * half};
+      double exact = brute_distance(soup, p);
+      EXPECT_NEAR(bvh.distance_among(p, child_list), exact, 1e-12);
+      uint32_t warm = uint32_t(rng() % (bvh.size() + 5));
+      EXPECT_NEAR(bvh.distance_among(p, child_list, exact - 0.05, exact + 0.05, &warm), exact, 1e-12);
+    }
+  }
+  EXPECT_LT(child_total, parent_total);  // narrowing drops candidates
+}
+
 TEST(ProxyParts, BvhContainsMatchesWindingNumber) {
   TriMesh torus = shapes::torus(1.0, 0.4, 32, 16);
   TriangleBvh bvh(torus);
