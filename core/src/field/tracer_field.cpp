@@ -206,7 +206,8 @@ void TracerField::prepare(const std::vector<int>& leaves) {
     size_t e = s;
     const int level = fmm_.tcells_[todo[s]].level;
     while (e < todo.size() && fmm_.tcells_[todo[e]].level == level) ++e;
-#pragma omp parallel for num_threads(threads_) schedule(dynamic, 4) reduction(+ : ops)
+    // A level of a few cells is not worth a fork/join (see trace.cpp).
+#pragma omp parallel for num_threads(threads_) schedule(dynamic, 4) reduction(+ : ops) if (e - s >= 32)
     for (long i = static_cast<long>(s); i < static_cast<long>(e); ++i) {
       const int c = todo[i];
       const auto& cell = fmm_.tcells_[c];
