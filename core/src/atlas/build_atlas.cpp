@@ -12,6 +12,7 @@
 #include "atlas/atlas_metrics.h"
 #include "atlas/chart_mesh.h"
 #include "atlas/flat_split.h"
+#include "atlas/merge_charts.h"
 #include "atlas/mesh_topology.h"
 #include "atlas/pack.h"
 #include "atlas/parameterize.h"
@@ -42,6 +43,7 @@ nlohmann::json AtlasResult::diagnostics() const {
           {"segment_rounds", s.segment_rounds},
           {"splits", s.splits},
           {"packing_splits", s.packing_splits},
+          {"chart_merges", s.chart_merges},
           {"seam_edges", s.seam_edges},
           {"seam_length", s.seam_length},
           {"seam_length_relative", s.seam_length_relative},
@@ -54,6 +56,7 @@ nlohmann::json AtlasResult::diagnostics() const {
           {"pack_method", s.pack_method},
           {"seconds_segment", s.seconds_segment},
           {"seconds_parameterize", s.seconds_parameterize},
+          {"seconds_merge", s.seconds_merge},
           {"seconds_pack", s.seconds_pack},
           {"warnings", s.warnings}};
 }
@@ -138,6 +141,20 @@ AtlasResult build_atlas(const TriMesh& mesh, const AtlasOptions& options, Progre
     progress.update("atlas.parameterize", static_cast<double>(faces_done) / nf);
   }
   stats.seconds_parameterize = since(t1);
+
+  if (options.merge_charts) {
+    const auto tm = Clock::now();
+    progress.update("atlas.merge", 0);
+    MergeOptions merge;
+    merge.max_stretch = options.max_stretch;
+    merge.arap_iterations = options.arap_iterations;
+    merge.crease_deg = options.merge_crease_deg;
+    merge.max_area_fraction = options.merge_max_area_fraction;
+    merge.min_fill = options.merge_min_fill;
+    merge.threads = threads;
+    stats.chart_merges = merge_charts(mesh, topology, seam, done, face_chart, face_local, merge);
+    stats.seconds_merge = since(tm);
+  }
 
   // Packing rounds: while utilisation stays below the target, the largest
   // charts are halved (their UVs kept) and everything is packed again; the

@@ -12,7 +12,9 @@
 // shape approximation, charts added until every chart fits the normal budget;
 // forced seams are never crossed); each chart is made a topological disk;
 // LSCM then ARAP local/global per chart; a chart that flips, overlaps itself or
-// exceeds the stretch budget is split in two and redone; charts are scaled to
+// exceeds the stretch budget is split in two and redone; optionally
+// (merge_charts) neighbouring charts are merged again where the union still
+// flattens within the budget (shorter seams); charts are scaled to
 // one texel density, rotated to their minimal-area rectangle and packed into
 // [0,1]^2 with padding by a bitmap packer (conservative rasters in 16 turns,
 // lowest fit) and, for few charts, also a column (horizon) packer; the
@@ -54,6 +56,17 @@ struct AtlasOptions {
   double alpha = 1.0;
   double beta = 1.0;
   int arap_iterations = 10;
+  // Chart merging after flattening: neighbouring charts whose shared boundary
+  // is mostly smooth (dihedral angle below merge_crease_deg) are merged when
+  // the union still flattens as a disk without flips or overlap and within
+  // max_stretch: fewer charts, shorter seams (see merge_charts.h).
+  bool merge_charts = false;
+  double merge_crease_deg = 60;
+  // A merge is refused when the union would hold more than this fraction of
+  // the surface or fill less than merge_min_fill of its minimal rectangle in
+  // UV (big or ragged charts pack badly).
+  double merge_max_area_fraction = 0.1;
+  double merge_min_fill = 0.5;
   // Packing: while utilisation is below `packing_split_below`, the largest
   // charts are halved and everything is packed again, at most
   // `packing_split_rounds` times (few big charts fill a square badly).
@@ -78,6 +91,7 @@ struct AtlasDiagnostics {
   int segment_rounds = 0;    // seed-insertion rounds the segmentation took
   int splits = 0;            // charts split for topology, flips, overlap or stretch
   int packing_splits = 0;    // flattened charts halved to pack tighter
+  int chart_merges = 0;      // pairs of neighbouring charts merged after flattening
   int seam_edges = 0;        // mesh edges forced to be seams by the hints
   double seam_length = 0;    // total 3D length of mesh edges between two charts
   double seam_length_relative = 0;  // seam_length / sqrt(surface area): scale-free
@@ -85,7 +99,7 @@ struct AtlasDiagnostics {
   double cpu_seconds = 0;     // process CPU time (all threads) during the build
   int pack_attempts = 0;      // packings tried by the scale searches
   std::string pack_method;    // "columns" or "raster": whose layout won
-  double seconds_segment = 0, seconds_parameterize = 0, seconds_pack = 0;
+  double seconds_segment = 0, seconds_parameterize = 0, seconds_merge = 0, seconds_pack = 0;
   std::vector<std::string> warnings;
 };
 
