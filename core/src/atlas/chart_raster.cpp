@@ -13,7 +13,15 @@ struct RowSpan {
 
 // Sorts the spans and merges overlapping or touching ones into a RowMask.
 RowMask assemble(std::vector<RowSpan>& raw, int height) {
-  std::sort(raw.begin(), raw.end());
+  // Rows are few per span: bucket by row, then sort the short runs.
+  std::vector<int> start(height + 1, 0);
+  for (const RowSpan& r : raw) ++start[r.row + 1];
+  for (int j = 0; j < height; ++j) start[j + 1] += start[j];
+  std::vector<RowSpan> sorted(raw.size());
+  std::vector<int> at(start.begin(), start.end() - 1);
+  for (const RowSpan& r : raw) sorted[at[r.row]++] = r;
+  for (int j = 0; j < height; ++j) std::sort(sorted.begin() + start[j], sorted.begin() + start[j + 1]);
+  raw.swap(sorted);
   RowMask m;
   m.height = height;
   m.first.assign(height + 1, 0);

@@ -103,6 +103,7 @@ Spot first_fit(const RowRuns& occ, const RowMask& m, const std::vector<int>& nee
   const int h = m.height, w = m.width;
   if (h == 0 || w > occ.width()) return {};
   y_limit = std::min(y_limit, occ.height() - h);
+  const int min_need = *std::min_element(need.begin(), need.end());
   int hint = 0;  // the mask row that blocked last: usually blocks again
   for (int y = 0; y <= y_limit; ++y) {
     bool wide_enough = true;
@@ -110,8 +111,15 @@ Spot first_fit(const RowRuns& occ, const RowMask& m, const std::vector<int>& nee
       const int r = (hint + i) % h;
       if (occ.widest(y + r) < need[r]) {
         wide_enough = false;
-        // At y + 1 the same texel row meets mask row r - 1.
-        hint = r > 0 ? r - 1 : 0;
+        if (occ.widest(y + r) < min_need) {
+          // No mask row fits texel row y + r: every y up to y + r would put
+          // one there.
+          y += r;
+          hint = h - 1;
+        } else {
+          // At y + 1 the same texel row meets mask row r - 1.
+          hint = r > 0 ? r - 1 : 0;
+        }
         break;
       }
     }
