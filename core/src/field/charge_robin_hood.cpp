@@ -54,14 +54,19 @@ void solve_robin_hood(const SourceGeometry& src, const ChargeOptions& o, Progres
   long next_record = 1;
   for (; it < max_it; ++it) {
     double dev = (phi[imax] - phi[imin]) / mean;
-    if (it == next_record - 1 || dev <= o.tolerance) {
+    const bool done = dev <= o.tolerance / 2 || imax == imin;
+    // History on a geometric schedule plus the last transfer. (The schedule
+    // used to advance on every transfer below the tolerance as well, and
+    // overflowed a long there: UBSan.)
+    const bool scheduled = it == next_record - 1;
+    if (scheduled || done) {
       r.history.push_back(dev);
       r.history_seconds.push_back(elapsed());
       r.history_iterations.push_back(static_cast<int>(it));
-      next_record = next_record * 5 / 4 + 1;
+      if (scheduled) next_record = next_record * 5 / 4 + 1;
       progress.update("charge", std::min(0.9, std::log(dev) / std::log(o.tolerance) * 0.9));
     }
-    if (dev <= o.tolerance / 2 || imax == imin) break;
+    if (done) break;
     if (o.max_seconds > 0 && (it & 63) == 0 && elapsed() > o.max_seconds) break;
     const long m = imax, k = imin;
     const Vec3 cm = src.centroid[m], ck = src.centroid[k];
