@@ -54,7 +54,9 @@ struct ChargeOptions {
   // tree, same exact near field); each outer defect-correction step applies
   // the full-order operator once (charge_krylov.cpp). >= fmm_order: no split.
   int krylov_inner_order = 4;
-  // Relative 2-norm residual each inner GMRES solve reaches.
+  // Relative 2-norm residual the first inner GMRES solve reaches (the cheap
+  // operator is no more accurate than that); later ones, and the whole solve
+  // when there is no order split, iterate until max |r| <= tolerance / 10.
   double krylov_inner_tolerance = 1e-4;
   // Source triangles per FMM leaf for the solve (the near field is a
   // precomputed sparse matrix, so larger leaves trade memory for fewer M2L).
