@@ -267,6 +267,10 @@ RasterPackResult raster_pack(std::vector<PackChart>& charts, int texture_size, d
       if (floor > 0 && hi / floor < options.precision) break;
       double guess = used == INT_MAX ? 0.97 * s : s * std::sqrt(static_cast<double>(side) / used);
       if (used > side) guess *= 0.997;
+      // Beating another packer's scale: when nothing fit yet and the height
+      // used says even that scale would not, bisecting below is futile
+      // (sphere 5k: 9 packings spent per round without a layout).
+      if (found == 0 && scale_to_beat > 0 && guess <= scale_to_beat) break;
       if (!(guess > floor && guess < hi)) guess = floor > 0 ? std::sqrt(floor * hi) : 0.8 * s;
       s = guess;
     }
