@@ -136,6 +136,13 @@ bool parse_method_flag(const std::vector<std::string>& args, size_t& i, MethodFl
     o.chart_fix_neighbours = false;
   } else if (a == "--no-share-lines") {
     o.share_lines = false;
+  } else if (a == "--uv-repair") {
+    o.uv_repair = true;
+  } else if (a == "--no-uv-repair") {
+    o.uv_repair = false;
+  } else if (a == "--repair-stretch") {
+    o.repair.stretch_threshold = number(a, value());
+    if (!(o.repair.stretch_threshold > 1)) throw UsageError{"--repair-stretch needs a factor > 1"};
   } else if (a == "--no-chart-fix") {
     o.transfer.fix_chart_boundaries = false;
   } else {

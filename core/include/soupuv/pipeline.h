@@ -30,6 +30,7 @@
 #include "soupuv/progress.h"
 #include "soupuv/proxy/proxy.h"
 #include "soupuv/transfer/transfer.h"
+#include "soupuv/transfer/uv_repair.h"
 
 namespace soupuv {
 
@@ -56,6 +57,11 @@ struct MapOptions {
   MapMethod method = MapMethod::field;
   proxy::ProxyOptions proxy = map_proxy_defaults();
   atlas::AtlasOptions atlas = map_atlas_defaults();
+  // The field library's own accuracy (charge tolerance 1e-6, tracer p = 7).
+  // Measured against tolerance 1e-4 / p = 5 (`soupuv-bench pipeline --only
+  // accuracy`, loaded machine): field stages 17-78 % faster, but 4-9 % of the
+  // corners' UVs moved by more than a texel (p95 0.05-129 texels), fandisk
+  // continuity 0.9551 -> 0.9533 and flips 0.78 -> 0.98 %: not taken.
   field::ChargeOptions charge;
   // trace.stop_radius = 0 here means: stop once a line is surely past any
   // proxy (half diagonal + max(1/4 diagonal, 1.5 x offset) from the box
@@ -82,6 +88,18 @@ struct MapOptions {
   // (welded) neighbours use (transfer/chart_fix.h); false: the paper's
   // per-triangle rule.
   bool chart_fix_neighbours = true;
+  // Local UV repair after transfer (transfer/uv_repair.h): a documented
+  // post-process, not the paper's; only the UV vertices of flipped,
+  // collapsed or badly stretched triangles move. Off by default because it
+  // does not improve all three figures everywhere: measured (offset auto,
+  // --original, before -> after) spot flipped 0.70 -> 0.48 %, L2 3.64 ->
+  // 2.03, continuity 0.9273 -> 0.9269; suzanne 9.7 -> 4.5 %, 6.06 -> 4.75,
+  // 0.8648 -> 0.8620; teapot 2.2 -> 1.65 %, 15.6 -> 1.75, 0.8949 -> 0.8948;
+  // fandisk 1.29 -> 0.90 %, 14.5 -> 12.3, 0.9532 -> 0.9532; 100k torus
+  // 0.34 -> 0.05 %, 13.2 -> 1.70, 0.9797 -> 0.9800. Rows of `soupuv-bench
+  // pipeline --only samples` carry before_repair to re-check this.
+  bool uv_repair = false;
+  transfer::UvRepairOptions repair;
   // Welding for the neighbour graph (orientation, continuity when no original
   // is given): corners closer than weld_tolerance * bounding-box diagonal, and
   // closer than weld_edge_fraction * their triangles' shortest edge (never two

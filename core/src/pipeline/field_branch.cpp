@@ -36,7 +36,7 @@ std::string trace_params(const FieldBranchOptions& b) {
   s << "int=" << int(o.integrator) << " steps=" << o.max_steps << " step=" << o.step
     << " eps=" << o.start_offset << " stop=" << o.stop_radius << " p=" << o.fmm_order
     << " theta=" << o.fmm_theta << " keep=" << o.keep_points << " adaptive=" << o.adaptive_step
-    << " direct=" << o.direct << " leaf=" << o.fmm_leaf_size << " probes=" << b.trace_cut_probes << " orient=" << b.orient_sides << " share=" << b.share_lines
+    << " direct=" << o.direct << " leaf=" << o.fmm_leaf_size << " trapped=" << o.trapped_steps << " probes=" << b.trace_cut_probes << " orient=" << b.orient_sides << " share=" << b.share_lines
     << " weld=" << b.weld_tolerance << " edge=" << b.weld_edge_fraction;
   return s.str();
 }
@@ -65,6 +65,7 @@ void add_stats(nlohmann::json& j, const field::TraceStats& s) {
   add("escaped", double(s.escaped));
   add("step_limit", double(s.step_limit));
   add("stalled", double(s.stalled));
+  add("trapped", double(s.trapped));
 }
 
 // Lines for the corners in `seeds` replace those of `base` (same corner).

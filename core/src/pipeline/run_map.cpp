@@ -224,10 +224,11 @@ MapResult run_map(const Soup& soup, const MapOptions& options, Progress& progres
   transfer::TransferOptions to = options.transfer;
   to.threads = total_threads;
   std::vector<quality::AdjacentPair> neighbours;
+  quality::Weld weld;
+  if (options.chart_fix_neighbours || options.uv_repair)
+    weld = quality::weld_corners(soup, options.weld_tolerance * diag, options.weld_edge_fraction);
   if (options.chart_fix_neighbours) {
-    neighbours = quality::edge_adjacency(
-        quality::weld_corners(soup, options.weld_tolerance * diag, options.weld_edge_fraction),
-        soup.triangles.size());
+    neighbours = quality::edge_adjacency(weld, soup.triangles.size());
     to.neighbours = &neighbours;
   }
   auto t_transfer = Clock::now();
@@ -252,6 +253,30 @@ MapResult run_map(const Soup& soup, const MapOptions& options, Progress& progres
 
   double metric_seconds = 0;
   const auto adjacency = metric_pairs(soup, options);
+  // The repair, with the figures of the unrepaired map beside it so every
+  // run shows what the post-process changed.
+  nlohmann::json repair_json = {{"enabled", options.uv_repair}};
+  double seconds_repair = 0;
+  if (options.uv_repair) {
+    double before_seconds = 0;
+    const quality::UvMetrics before = measure(soup, tr.corner_uvs, adjacency, options,
+                                              pb.atlas.atlas.uv_per_length, before_seconds);
+    std::vector<int> chart(soup.triangles.size());
+    for (size_t t = 0; t < chart.size(); ++t) chart[t] = pb.atlas.atlas.face_chart[tr.landing[3 * t].face];
+    transfer::UvRepairResult rep = transfer::repair_uvs(
+        soup, weld, chart, pb.atlas.atlas.uv_per_length, tr.corner_uvs, options.repair, progress);
+    seconds_repair = rep.seconds;
+    repair_json.update(rep.diagnostics());
+    repair_json["before"] = {{"flipped_fraction", before.flipped_fraction},
+                             {"stretch_l2", before.stretch_l2},
+                             {"stretch_median", before.stretch_median},
+                             {"continuity", before.continuity},
+                             {"continuity_1texel", before.continuity_1texel},
+                             {"islands", before.islands}};
+    repair_json["options"] = {{"stretch_threshold", options.repair.stretch_threshold},
+                              {"expansion_threshold", options.repair.expansion_threshold},
+                              {"max_growth", options.repair.max_growth}};
+  }
   quality::UvMetrics m = measure(soup, tr.corner_uvs, adjacency, options,
                                  pb.atlas.atlas.uv_per_length, metric_seconds);
   quality::CornerLanding landed{tr.missed, tr.first_chart, {}};
@@ -276,6 +301,7 @@ MapResult run_map(const Soup& soup, const MapOptions& options, Progress& progres
       {"proxy", {{"seconds", pb.seconds_proxy}}},
       {"atlas", {{"seconds", pb.seconds_atlas}}},
       {"transfer", {{"seconds", seconds_transfer}}},
+      {"uv_repair", {{"seconds", seconds_repair}}},
       {"metrics", {{"seconds", metric_seconds}}}};
   d["proxy"] = pb.proxy.diagnostics();
   d["proxy"]["closed"] = pb.proxy.closed;
@@ -301,6 +327,9 @@ MapResult run_map(const Soup& soup, const MapOptions& options, Progress& progres
                    {"cut_triangles_corrected", cut_corrected}};
   d["uv"] = uv_json(m, soup, options);
   d["uv"]["causes"] = causes.to_json();
+  d["uv"]["repaired_vertices"] = repair_json.value("repaired_vertices", 0);
+  d["uv"]["repaired_triangles"] = repair_json.value("repaired_triangles", 0);
+  d["uv_repair"] = repair_json;
   size_t hits = size_t(field.charges_cached) + size_t(field.lines_cached);
   size_t misses = 2 - hits;
   d["cache"] = cache_json(options.cache, options.cache ? hits : 0, options.cache ? misses : 0);

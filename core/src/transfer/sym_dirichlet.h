@@ -21,6 +21,7 @@ namespace soupuv::transfer::detail {
 struct RestTriangle {
   // J = sum_k uv_k g_k^T (g_k: gradient of corner k's barycentric function).
   std::array<Vec2, 3> g{};
+  std::array<Vec2, 3> x{};  // flattened corners at scale, wanted orientation
   double area = 0;   // rest area, in UV units^2
   bool valid = false;
 };
@@ -33,6 +34,7 @@ inline RestTriangle rest_triangle(Vec3 p0, Vec3 p1, Vec3 p2, double scale, doubl
   // Flattened corners: x0 = 0, x1 = (l1, 0), x2 with the wanted orientation.
   const double a = scale * l1, b = scale * dot(e1, e2) / l1,
                c = orientation * scale * twice_area / l1;
+  r.x = {Vec2{0, 0}, Vec2{a, 0}, Vec2{b, c}};
   const double det = a * c;  // det [x1 x2]
   // Rows of [x1 x2]^-1 are the gradients of the barycentrics of corners 1, 2.
   r.g[1] = {c / det, -b / det};

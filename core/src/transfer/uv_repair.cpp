@@ -18,6 +18,10 @@ nlohmann::json UvRepairResult::diagnostics() const {
           {"patches", patches},
           {"repaired_patches", repaired_patches},
           {"failed_patches", failed_patches},
+          {"failed_no_start", failed_no_start},
+          {"failed_no_gain", failed_no_gain},
+          {"failed_sliver", failed_sliver},
+          {"failed_too_large", failed_too_large},
           {"repaired_vertices", repaired_vertices},
           {"repaired_triangles", repaired_triangles},
           {"seconds", seconds}};
@@ -28,6 +32,7 @@ namespace {
 using detail::RestTriangle;
 constexpr double kInf = std::numeric_limits<double>::infinity();
 constexpr uint32_t kFixed = UINT32_MAX;
+constexpr double kMinAreaRatio = 1e-3;
 
 double signed_area2(const std::array<Vec2, 3>& uv) { return cross(uv[1] - uv[0], uv[2] - uv[0]); }
 
@@ -146,6 +151,22 @@ class Patch {
     for (size_t i = 0; i < triangles_.size(); ++i) e += energy_of(i);
     return e;
   }
+  // Every triangle keeps at least kMinAreaRatio of its isometric UV area. The
+  // barrier alone only keeps areas positive: a patch whose fixed ring is
+  // itself collapsed (many lines converged on one point) can lower its
+  // energy while staying a sliver of 1e-9, which is a fold in float UVs.
+  // ... and every free vertex inside [0,1]^2 (a start may put it outside;
+  // the line search never moves it out, but cannot always bring it back).
+  bool unfolded() const {
+    for (const Vec2& p : uv_)
+      if (!in_unit_square(p)) return false;
+    for (size_t i = 0; i < triangles_.size(); ++i) {
+      const RestTriangle& r = rest_[triangles_[i]];
+      if (r.valid && !(detail::jacobian(r, corners(i)).det() >= kMinAreaRatio)) return false;
+    }
+    return true;
+  }
+
   // The energy before the repair (the corners' own UVs).
   double original_energy() const {
     double e = 0;
@@ -182,6 +203,39 @@ class Patch {
         uv_[i] = next;
       }
       if (moved < 1e-12) break;
+    }
+  }
+
+  // Start 3, for patches Tutte folds (an open chart border, a concave
+  // ring): unfold the triangles one by one from the fixed corners inwards,
+  // each free vertex placed where the similarity that maps a triangle's rest
+  // edge onto its two placed corners puts it (the mean over such triangles).
+  void start_unfolding() {
+    std::vector<uint8_t> placed(free_.size(), 0);
+    auto known = [&](size_t tri, int k) { return slot_[tri][k] == kFixed || placed[slot_[tri][k]]; };
+    for (size_t round = 0; round < free_.size(); ++round) {
+      bool progress = false;
+      std::vector<std::pair<size_t, Vec2>> found;
+      for (size_t i = 0; i < free_.size(); ++i) {
+        if (placed[i]) continue;
+        Vec2 sum{0, 0};
+        int count = 0;
+        for (auto [tri, k] : around_[i]) {
+          const int a = (k + 1) % 3, b = (k + 2) % 3;
+          const RestTriangle& r = rest_[triangles_[tri]];
+          if (!r.valid || !known(tri, a) || !known(tri, b)) continue;
+          const std::array<Vec2, 3> c = corners(tri);
+          // Complex numbers: uv_k = uv_a + (uv_b - uv_a) (x_k - x_a) / (x_b - x_a).
+          const Vec2 e = r.x[b] - r.x[a], q = r.x[k] - r.x[a], d = c[b] - c[a];
+          const double e2 = dot(e, e);
+          const Vec2 ratio{(q.x * e.x + q.y * e.y) / e2, (q.y * e.x - q.x * e.y) / e2};
+          sum = sum + c[a] + Vec2{d.x * ratio.x - d.y * ratio.y, d.x * ratio.y + d.y * ratio.x};
+          ++count;
+        }
+        if (count) found.push_back({i, (1.0 / count) * sum});
+      }
+      for (auto& [i, p] : found) { uv_[i] = p; placed[i] = 1; progress = true; }
+      if (!progress) break;
     }
   }
 
@@ -286,12 +340,27 @@ UvRepairResult repair_uvs(const Soup& soup, const quality::Weld& weld,
   r.bad_triangles = size_t(std::count(bad.begin(), bad.end(), 1));
   const UvVertices verts = uv_vertices(weld, triangle_chart);
 
+  // UV vertices whose welded vertex also lives on another chart: their
+  // copies across the seam may match by chance (§8 extends charts across
+  // seams), and moving them would cut those pairs.
+  std::vector<uint8_t> on_seam(verts.count(), 0);
+  if (options.keep_seam_vertices) {
+    std::vector<int> chart_of_weld(weld.vertex_count, -1);
+    std::vector<uint8_t> weld_on_seam(weld.vertex_count, 0);
+    for (size_t c = 0; c < 3 * n; ++c) {
+      int& seen = chart_of_weld[weld.corner_vertex[c]];
+      if (seen >= 0 && seen != triangle_chart[c / 3]) weld_on_seam[weld.corner_vertex[c]] = 1;
+      seen = triangle_chart[c / 3];
+    }
+    for (size_t c = 0; c < 3 * n; ++c) on_seam[verts.of_corner[c]] = weld_on_seam[weld.corner_vertex[c]];
+  }
+
   // Patches: the UV vertices of bad triangles, joined through those triangles.
   UnionFind uf(verts.count());
   std::vector<uint8_t> in_patch(verts.count(), 0);
   for (size_t t = 0; t < n; ++t) {
     if (!bad[t]) continue;
-    for (int k = 0; k < 3; ++k) in_patch[verts.of_corner[3 * t + k]] = 1;
+    for (int k = 0; k < 3; ++k) in_patch[verts.of_corner[3 * t + k]] = !on_seam[verts.of_corner[3 * t + k]];
     uf.unite(verts.of_corner[3 * t], verts.of_corner[3 * t + 1]);
     uf.unite(verts.of_corner[3 * t], verts.of_corner[3 * t + 2]);
   }
@@ -308,16 +377,23 @@ UvRepairResult repair_uvs(const Soup& soup, const quality::Weld& weld,
     if ((p & 255) == 0) progress.update("uv repair", double(p) / double(patches.size()));
     std::vector<uint32_t> free_vertices = patches[p];
     bool done = false;
+    enum { too_large, no_start, no_gain, sliver } why = no_start;
     for (int ring = 0; ring <= options.max_growth && !done; ++ring) {
-      if (free_vertices.size() > options.max_patch_vertices) break;
+      if (free_vertices.size() > options.max_patch_vertices) { why = too_large; break; }
       Patch patch(free_vertices, verts, rest, uvs);
       const double before = patch.original_energy();
       patch.start_at_copies();
       if (!std::isfinite(patch.energy())) patch.start_tutte(500);
+      if (!std::isfinite(patch.energy())) {
+        patch.start_at_copies();  // vertices no triangle reaches keep their copies' mean
+        patch.start_unfolding();
+      }
+      why = no_start;
       if (std::isfinite(patch.energy())) {
         patch.minimise(options.max_sweeps);
         const double after = patch.energy();
-        if (std::isfinite(after) && after < before) {
+        why = !(after < before) ? no_gain : sliver;
+        if (std::isfinite(after) && after < before && patch.unfolded()) {
           for (size_t i = 0; i < patch.free_vertices().size(); ++i) {
             const uint32_t v = patch.free_vertices()[i];
             moved_vertex[v] = 1;
@@ -329,16 +405,21 @@ UvRepairResult repair_uvs(const Soup& soup, const quality::Weld& weld,
           done = true;
           break;
         }
-        // Finite but no better: the fixed surroundings themselves constrain
-        // the patch too much; one more ring gives it room.
+        // No better, or still a sliver: the fixed surroundings themselves
+        // constrain the patch too much; one more ring gives it room.
       }
       // Grow by one ring: every UV vertex of the patch's triangles is free.
       for (uint32_t t : patch.triangles())
-        for (int k = 0; k < 3; ++k) free_vertices.push_back(verts.of_corner[3 * t + k]);
+        for (int k = 0; k < 3; ++k)
+          if (!on_seam[verts.of_corner[3 * t + k]]) free_vertices.push_back(verts.of_corner[3 * t + k]);
       std::sort(free_vertices.begin(), free_vertices.end());
       free_vertices.erase(std::unique(free_vertices.begin(), free_vertices.end()), free_vertices.end());
     }
     (done ? r.repaired_patches : r.failed_patches) += 1;
+    if (!done) {
+      (why == too_large ? r.failed_too_large : why == no_start ? r.failed_no_start
+                                           : why == no_gain ? r.failed_no_gain : r.failed_sliver) += 1;
+    }
   }
 
   r.repaired_vertices = size_t(std::count(moved_vertex.begin(), moved_vertex.end(), 1));

@@ -25,7 +25,8 @@
 // infinite for a collapsed or flipped triangle, so a line search that keeps
 // every triangle's orientation keeps the map injective on the patch), by
 // preconditioned block coordinate descent, one free vertex at a time. A patch
-// is written back only if its energy went down and nothing in it is flipped.
+// is written back only if its energy went down and every triangle in it keeps
+// at least 1/1000 of its isometric UV area (nothing folded or collapsed).
 // Cost  : O(patch size x sweeps) per patch; patches are small and disjoint.
 #pragma once
 
@@ -49,6 +50,11 @@ struct UvRepairOptions {
   // surface -> UV map at the global scale).
   double stretch_threshold = 2.0;
   double expansion_threshold = 4.0;
+  // Never move a UV vertex whose welded vertex also lies on another chart,
+  // so pairs across a seam that matched stay matched. Off: measured, it
+  // keeps most bad triangles (they sit at seams) and continuity did not
+  // rise (spot L2 3.60 vs 2.03, suzanne continuity 0.8634 vs 0.8620).
+  bool keep_seam_vertices = false;
   int max_growth = 3;                // rings added to a patch with no flip-free start
   int max_sweeps = 100;              // coordinate-descent sweeps per patch
   size_t max_patch_vertices = 4000;  // larger patches are left alone (counted)
@@ -60,6 +66,10 @@ struct UvRepairResult {
   size_t patches = 0;
   size_t repaired_patches = 0;     // written back
   size_t failed_patches = 0;       // no flip-free start, too large, or no gain
+  // ... by the reason of the last try (after growing max_growth rings):
+  // both starts folded, the energy did not drop, a triangle stayed a
+  // sliver, or the patch outgrew max_patch_vertices.
+  size_t failed_no_start = 0, failed_no_gain = 0, failed_sliver = 0, failed_too_large = 0;
   size_t repaired_vertices = 0;    // UV vertices (welded vertex, chart) moved
   size_t repaired_triangles = 0;   // soup triangles with a moved corner
   double seconds = 0;
