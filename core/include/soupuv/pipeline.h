@@ -92,12 +92,12 @@ struct MapOptions {
   // post-process, not the paper's; only the UV vertices of flipped,
   // collapsed or badly stretched triangles move. Off by default because it
   // does not improve all three figures everywhere: measured (offset auto,
-  // --original, before -> after) spot flipped 0.70 -> 0.48 %, L2 3.64 ->
-  // 2.03, continuity 0.9273 -> 0.9269; suzanne 9.7 -> 4.5 %, 6.06 -> 4.75,
-  // 0.8648 -> 0.8620; teapot 2.2 -> 1.65 %, 15.6 -> 1.75, 0.8949 -> 0.8948;
-  // fandisk 1.29 -> 0.90 %, 14.5 -> 12.3, 0.9532 -> 0.9532; 100k torus
-  // 0.34 -> 0.05 %, 13.2 -> 1.70, 0.9797 -> 0.9800. Rows of `soupuv-bench
-  // pipeline --only samples` carry before_repair to re-check this.
+  // --original, before -> after) spot flipped 0.68 -> 0.56 %, L2 3.35 ->
+  // 3.19, continuity 0.9273 -> 0.9269; suzanne 9.7 -> 4.5 %, 5.85 -> 4.49,
+  // 0.8648 -> 0.8634; teapot 2.09 -> 1.50 %, 9.24 -> 3.07, 0.8950 -> 0.8949;
+  // fandisk 1.27 -> 0.91 %, 17.5 -> 16.5, 0.9551 -> 0.9551; 100k torus
+  // (an earlier build) 0.34 -> 0.05 %, 13.2 -> 1.70, 0.9797 -> 0.9800. Rows
+  // of `soupuv-bench pipeline --only samples` carry before_repair.
   bool uv_repair = false;
   transfer::UvRepairOptions repair;
   // Welding for the neighbour graph (orientation, continuity when no original
