@@ -59,9 +59,11 @@ struct MapOptions {
   atlas::AtlasOptions atlas = map_atlas_defaults();
   // The field library's own accuracy (charge tolerance 1e-6, tracer p = 7).
   // Measured against tolerance 1e-4 / p = 5 (`soupuv-bench pipeline --only
-  // accuracy`, loaded machine): field stages 17-78 % faster, but 4-9 % of the
-  // corners' UVs moved by more than a texel (p95 0.05-129 texels), fandisk
-  // continuity 0.9551 -> 0.9533 and flips 0.78 -> 0.98 %: not taken.
+  // accuracy`, no UV repair, offset 0.03, loaded machine): median corner UV
+  // shift 0.001-0.002 texel, but corners moved > 1 texel: suzanne 0.3 %,
+  // spot 0.01 %, fandisk 1.2 % (p99 5 texels), fandisk continuity 0.9551 ->
+  // 0.9532; CPU 10.5 -> 5.9 s (suzanne), 10.3 -> 9.5 (spot), 28.2 -> 25.1
+  // (fandisk). The saving is small where the soup is large, so not taken.
   field::ChargeOptions charge;
   // trace.stop_radius = 0 here means: stop once a line is surely past any
   // proxy (half diagonal + max(1/4 diagonal, 1.5 x offset) from the box
