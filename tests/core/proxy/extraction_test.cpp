@@ -147,8 +147,8 @@ TEST(ProxyExtraction, CollapseKeepsTopologyAndCoarsens) {
   EXPECT_LT(coarse.faces.size(), raw.faces.size());
 }
 
-// The slab-parallel collapse gives the same mesh for 1, 2 and 3 threads
-// (slabs are fixed, not per thread), and so do marching cubes.
+// The collapse (serial) and marching cubes (static contiguous chunks) give
+// the same mesh for 1, 2 and 3 threads.
 TEST(ProxyExtraction, CollapseAndMarchingCubesDoNotDependOnTheThreadCount) {
   Soup torus = shapes::to_soup(shapes::torus(1.0, 0.3, 48, 16));
   TriangleBvh bvh(torus);

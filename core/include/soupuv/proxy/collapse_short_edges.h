@@ -17,11 +17,6 @@
 // (about 2 per cell); collapsing them with plain arrays in about a dozen
 // sweeps in face order is O(n) and many times faster than CGAL's heap on a
 // halfedge structure, so CGAL's remeshing only sees the small result.
-// Parallel: two phases on 8 fixed slabs along the longest axis (the second
-// shifted by half a slab) collapse, per slab and thread, only edges whose
-// whole neighbourhood lies in the slab (so no face or vertex list is shared
-// between threads); a serial pass then finishes the slab boundaries. The
-// slabs do not depend on the thread count, so neither does the result.
 // Stats say how many collapses were done and refused, per reason.
 #pragma once
 
