@@ -62,9 +62,9 @@ Usage:
       --debug-prefix P       also write P.proxy.glb (textured proxy),
                              P.lines.glb (field lines), P.uv.png (UV layout)
       --uv-layout FILE       also write the UV layout as a 1024 px PNG
-      --uv-repair            local UV repair: a post-process after transfer that
-                             re-places the UVs around flipped or sliver
-                             triangles (off by default; --no-uv-repair)
+      --no-uv-repair         skip the local UV repair (a post-process after
+                             transfer that re-places the UVs around flipped or
+                             sliver triangles; on by default, --uv-repair)
       --repair-stretch F     repair triangles stretched beyond F x the median (2)
       --no-refine-intersections  --no-orient  --no-share-lines  --no-chart-fix
       --no-chart-neighbours
