@@ -5,6 +5,7 @@
 #include <numeric>
 
 #include "soupuv/errors.h"
+#include "soupuv/union_find.h"
 
 namespace soupuv::quality {
 
@@ -17,16 +18,6 @@ double signed_uv_area(const std::array<Vec2, 3>& t) {
 bool usable(Vec2 p) {
   return std::isfinite(p.x) && std::isfinite(p.y) && p.x >= 0 && p.x <= 1 && p.y >= 0 && p.y <= 1;
 }
-
-struct UnionFind {
-  std::vector<uint32_t> parent;
-  explicit UnionFind(size_t n) : parent(n) { std::iota(parent.begin(), parent.end(), 0u); }
-  uint32_t find(uint32_t x) {
-    while (parent[x] != x) x = parent[x] = parent[parent[x]];
-    return x;
-  }
-  void unite(uint32_t a, uint32_t b) { parent[find(a)] = find(b); }
-};
 
 }  // namespace
 

@@ -5,23 +5,11 @@
 #include <numeric>
 #include <unordered_map>
 
+#include "soupuv/union_find.h"
+
 namespace soupuv::quality {
 
 namespace {
-
-struct UnionFind {
-  std::vector<uint32_t> parent;
-  explicit UnionFind(size_t n) : parent(n) { std::iota(parent.begin(), parent.end(), 0u); }
-  uint32_t find(uint32_t x) {
-    while (parent[x] != x) x = parent[x] = parent[parent[x]];
-    return x;
-  }
-  void unite(uint32_t a, uint32_t b) {
-    a = find(a);
-    b = find(b);
-    if (a != b) parent[std::max(a, b)] = std::min(a, b);
-  }
-};
 
 uint64_t cell_key(int64_t x, int64_t y, int64_t z) {
   // 21 bits per axis is plenty: cells are never finer than the tolerance and

@@ -8,6 +8,7 @@
 #include <unordered_map>
 
 #include "soupuv/errors.h"
+#include "soupuv/union_find.h"
 #include "transfer/sym_dirichlet.h"
 
 namespace soupuv::transfer {
@@ -303,15 +304,6 @@ class Patch {
   std::vector<Vec2> uv_;
 };
 
-struct UnionFind {
-  std::vector<uint32_t> parent;
-  explicit UnionFind(size_t n) : parent(n) { std::iota(parent.begin(), parent.end(), 0u); }
-  uint32_t find(uint32_t x) {
-    while (parent[x] != x) x = parent[x] = parent[parent[x]];
-    return x;
-  }
-  void unite(uint32_t a, uint32_t b) { parent[find(a)] = find(b); }
-};
 
 }  // namespace
 
