@@ -1,7 +1,7 @@
 // Regression for a libFuzzer finding: a 574-byte Draco stream on which Debian's
 // Draco 1.5.5 spins for 13 s (Release) in its tex-coord prediction decoder.
 // The loader decodes Draco in a child process under a CPU-time limit, so this
-// must come back quickly as limit_exceeded instead of hanging the caller.
+// must come back quickly as an error instead of hanging the caller.
 #include <gtest/gtest.h>
 
 #include <chrono>
@@ -65,14 +65,20 @@ const unsigned char kSpinningDraco[] = {
 [[maybe_unused]] const unsigned int kSpinningDraco_len = 574;
 }  // namespace
 
-TEST(LoadDracoHostile, SpinningPayloadHitsTheCpuBudget) {
+TEST(LoadDracoHostile, SpinningPayloadIsRefusedWithoutHanging) {
   auto start = std::chrono::steady_clock::now();
   try {
     io::load_memory(std::span<const uint8_t>(kSpinningDraco, sizeof kSpinningDraco));
     ADD_FAILURE() << "hostile Draco payload loaded";
   } catch (const Error& e) {
-    EXPECT_EQ(e.code(), ErrorCode::limit_exceeded) << e.what();
-    EXPECT_NE(std::string(e.what()).find("CPU budget"), std::string::npos) << e.what();
+    // Release: the decoder spins until the budget stops it. Under ASan the
+    // same stream once ended after ~2 s CPU with Draco's own "Failed to
+    // decode point attributes" (its allocations go through ASan's allocator),
+    // which is just as clear an answer; what must never happen is a hang.
+    const std::string what = e.what();
+    const bool budget = e.code() == ErrorCode::limit_exceeded && what.find("CPU budget") != std::string::npos;
+    const bool refused = e.code() == ErrorCode::invalid_input && what.find("Draco decoding failed") != std::string::npos;
+    EXPECT_TRUE(budget || refused) << what;
   }
   // 2 s of CPU; generous wall-clock slack for a machine shared with compilers.
   double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
