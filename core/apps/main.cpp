@@ -44,6 +44,8 @@ Usage:
       --resolution N         proxy grid cells along the longest axis (0 = auto)
       --proxy-edge L         proxy remeshing target edge length (0 = the offset)
       --chart-angle DEG      atlas: max normal deviation within a chart (70)
+      --merge-charts         atlas: merge neighbouring charts across smooth
+                             boundaries while they still flatten (shorter seams)
       --chart-stretch S      atlas: max L2 stretch of a chart before a split
       --pack-splits N        atlas: rounds of halving charts to pack tighter
       --weld-tolerance F     corners closer than F x diagonal are one vertex

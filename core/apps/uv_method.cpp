@@ -93,6 +93,8 @@ bool parse_method_flag(const std::vector<std::string>& args, size_t& i, MethodFl
     o.atlas.max_normal_deviation_deg = number(a, value());
     if (!(o.atlas.max_normal_deviation_deg > 0 && o.atlas.max_normal_deviation_deg <= 90))
       throw UsageError{"--chart-angle needs degrees in (0, 90]"};
+  } else if (a == "--merge-charts") {
+    o.atlas.merge_charts = true;
   } else if (a == "--chart-stretch") {
     o.atlas.max_stretch = number(a, value());
     if (!(o.atlas.max_stretch >= 1)) throw UsageError{"--chart-stretch needs a value >= 1"};
