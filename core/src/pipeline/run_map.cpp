@@ -141,19 +141,6 @@ MapResult run_box(const Soup& soup, const MapOptions& options, Progress& progres
 
 }  // namespace
 
-atlas::AtlasOptions map_atlas_defaults() {
-  atlas::AtlasOptions o;
-  // 90 is refused by the atlas; 70 vs 40 measured in pipeline.h.
-  o.max_normal_deviation_deg = 70;
-  return o;
-}
-
-proxy::ProxyOptions map_proxy_defaults() {
-  proxy::ProxyOptions o;
-  o.ladder = {0.03, 0.05, 0.08, 0.12};
-  return o;
-}
-
 MapResult run_map(const io::Asset& asset, const MapOptions& options, Progress& progress) {
   MapResult r = run_map(asset.soup, options, progress);
   r.diagnostics["soup"]["dropped_degenerate"] = asset.dropped_degenerate;
