@@ -10,7 +10,9 @@
 // (Krylov thread count; default 0: one thread below krylov_parallel_min),
 // --rh-cap-factor F (robin hood's cap is at least F x the same size's
 // Krylov solve time, default 5.5, so a capped robin hood row still proves
-// the ">= 5x" ratio as a lower bound).
+// the ">= 5x" ratio as a lower bound), --noisy-torus N (adds a Krylov row
+// "torus-noisy" on the pipeline's soup: shapes::to_soup(torus_with(1, 0.5,
+// N), 1e-3, 1), as `soupuv-bench pipeline --only torus-100k` charges it).
 //
 // Ratios: every shape/size where both solvers ran gives a row in the
 // summary's `ratios` (robin hood solve seconds / Krylov solve seconds, wall
@@ -107,6 +109,7 @@ int run_charge(const bench::Args& args) {
   size_t max_tris = args.quick ? 3200 : 105800;
   std::string tables = "3,4", methods = "krylov,robin-hood,robin-hood-direct-init,dense-lu";
   std::vector<int> sizes = {800, 1800, 3200, 6400, 12800, 25600, 51200, 105800};
+  std::vector<int> noisy_sizes;
   ChargeOptions krylov_base;
   for (size_t i = 0; i + 1 < args.rest.size(); ++i) {
     if (args.rest[i] == "--max-triangles") max_tris = std::stoul(args.rest[i + 1]);
@@ -123,6 +126,8 @@ int run_charge(const bench::Args& args) {
     if (args.rest[i] == "--verify-direct-max") krylov_base.verify_direct_max = std::stoul(args.rest[i + 1]);
     if (args.rest[i] == "--methods") methods = args.rest[i + 1];
     if (args.rest[i] == "--threads") krylov_base.threads = std::stoi(args.rest[i + 1]);
+    if (args.rest[i] == "--noisy-torus")
+      for (const std::string& t : split(args.rest[i + 1])) noisy_sizes.push_back(std::stoi(t));
     if (args.rest[i] == "--sizes") {
       sizes.clear();
       for (const std::string& t : split(args.rest[i + 1])) sizes.push_back(std::stoi(t));
@@ -217,6 +222,14 @@ int run_charge(const bench::Args& args) {
       d.solver = ChargeOptions::Solver::dense_lu;
       fit["dense-lu"].add(n, run("4", "torus", soup, d, false));
     }
+  }
+  // The pipeline's noisy soup (issue 6): every triangle its own three
+  // vertices, each moved by up to 1e-3 of the diagonal.
+  nlohmann::json noisy = nlohmann::json::array();
+  for (int n : noisy_sizes) {
+    ChargeOptions k = krylov_base;
+    k.tolerance = tol;
+    noisy.push_back(run("noisy", "torus-noisy", shapes::to_soup(shapes::torus_with(1.0, 0.5, n), 1e-3, 1), k, true));
   }
   nlohmann::json slopes, cpu_slopes;
   for (auto& [m, xy] : fit) {
