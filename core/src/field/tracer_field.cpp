@@ -14,6 +14,7 @@
 #include "tracer_closed_form.h"
 #include "tracer_kernels.h"
 #include "tracer_l2p.h"
+#include "tracer_m2l.h"
 
 namespace soupuv::field {
 
@@ -88,7 +89,8 @@ TracerField::TracerField(const Fmm& fmm, const std::vector<double>& charges, int
       m_(fmm.src_.points_per_triangle),
       threads_(threads > 0 ? threads : omp_get_max_threads()),
       ncoef_(fmm.ncoef_),
-      field_expansion_(std::make_unique<tracer::FieldExpansion>(fmm.basis_)) {
+      field_expansion_(std::make_unique<tracer::FieldExpansion>(fmm.basis_)),
+      m2l_(std::make_unique<tracer::BatchM2L>(fmm.basis_)) {
   const SourceGeometry& src = fmm.src_;
   const size_t n = fmm.order_.size();
   pq_.resize(n * m_);
@@ -215,9 +217,15 @@ void TracerField::prepare(const std::vector<int>& leaves) {
       if (cell.parent >= 0)
         fmm_.basis_.l2l(&L_[static_cast<size_t>(slot_[cell.parent]) * ncoef_],
                         cell.center - fmm_.tcells_[cell.parent].center, L);
-      for (int B : fmm_.m2l_[c])
-        fmm_.basis_.m2l(&M_[static_cast<size_t>(B) * ncoef_], cell.center - fmm_.scells_[B].mc, L);
-      ops += fmm_.m2l_[c].size();
+      const auto& sources = fmm_.m2l_[c];
+      std::vector<const double*> moments(sources.size());
+      std::vector<Vec3> offsets(sources.size());
+      for (size_t k = 0; k < sources.size(); ++k) {
+        moments[k] = &M_[static_cast<size_t>(sources[k]) * ncoef_];
+        offsets[k] = cell.center - fmm_.scells_[sources[k]].mc;
+      }
+      m2l_->apply(moments.data(), offsets.data(), static_cast<int>(sources.size()), L);
+      ops += sources.size();
       field_expansion_->from_local(L, &G_[static_cast<size_t>(slot_[c]) * gsize]);
     }
     s = e;

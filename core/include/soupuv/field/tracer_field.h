@@ -44,6 +44,7 @@ namespace soupuv::field {
 
 namespace tracer {
 class FieldExpansion;
+class BatchM2L;
 }
 
 class TracerField {
@@ -108,6 +109,7 @@ class TracerField {
   std::vector<double> L_;                  // ncoef_ per computed target cell
   // Each computed local expansion also as its field polynomials (tracer_l2p.h).
   std::unique_ptr<tracer::FieldExpansion> field_expansion_;
+  std::unique_ptr<tracer::BatchM2L> m2l_;  // all M2Ls of a target cell in one call
   std::vector<double> G_;
   size_t expansions_ = 0, m2l_ops_ = 0;
 };
