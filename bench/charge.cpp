@@ -111,6 +111,8 @@ int run_charge(const bench::Args& args) {
   std::vector<int> sizes = {800, 1800, 3200, 6400, 12800, 25600, 51200, 105800};
   std::vector<int> noisy_sizes;
   ChargeOptions krylov_base;
+  for (const std::string& a : args.rest)
+    if (a == "--no-coarse") krylov_base.krylov_coarse_correction = false;  // block-Jacobi alone
   for (size_t i = 0; i + 1 < args.rest.size(); ++i) {
     if (args.rest[i] == "--max-triangles") max_tris = std::stoul(args.rest[i + 1]);
     if (args.rest[i] == "--rh-seconds") rh_seconds = std::stod(args.rest[i + 1]);
@@ -119,6 +121,7 @@ int run_charge(const bench::Args& args) {
     // Krylov tuning knobs (defaults: ChargeOptions)
     if (args.rest[i] == "--leaf") krylov_base.krylov_leaf_size = std::stoi(args.rest[i + 1]);
     if (args.rest[i] == "--block") krylov_base.krylov_block_size = std::stoi(args.rest[i + 1]);
+    if (args.rest[i] == "--max-iterations") krylov_base.max_iterations = std::stoi(args.rest[i + 1]);
     if (args.rest[i] == "--inner-order") krylov_base.krylov_inner_order = std::stoi(args.rest[i + 1]);
     if (args.rest[i] == "--inner-tol") krylov_base.krylov_inner_tolerance = std::stod(args.rest[i + 1]);
     if (args.rest[i] == "--order") krylov_base.fmm_order = std::stoi(args.rest[i + 1]);

@@ -22,6 +22,7 @@
 #include <cmath>
 #include <string>
 
+#include "charge_coarse.h"
 #include "charge_solvers.h"
 #include "collocation.h"
 #include "gmres.h"
@@ -45,7 +46,10 @@ void solve_krylov(const SourceGeometry& src, const ChargeOptions& o, Progress& p
   CollocationOperator& A = *op;
   const bool split = cheap_order < o.fmm_order;
   const auto cheap = split ? CollocationOperator::Accuracy::cheap : CollocationOperator::Accuracy::full;
-  LeafBlockPreconditioner M(A, A.fmm().source_blocks(o.krylov_block_size), threads);
+  const auto blocks = A.fmm().source_blocks(o.krylov_block_size);
+  LeafBlockPreconditioner B(A, blocks, threads);
+  std::unique_ptr<CoarseCorrection> C;
+  if (o.krylov_coarse_correction && blocks.size() > 1) C = std::make_unique<CoarseCorrection>(A, src, blocks, B, threads);
   r.setup_seconds = elapsed();
   r.near_entries = A.near_entries();
   r.solver = "krylov";
@@ -117,7 +121,12 @@ void solve_krylov(const SourceGeometry& src, const ChargeOptions& o, Progress& p
       return !out_of_time;
     };
     LinearMap apply_cheap = [&](const std::vector<double>& v, std::vector<double>& out) { A.apply(v, out, cheap); };
-    LinearMap apply_M = [&](const std::vector<double>& v, std::vector<double>& out) { M.apply(v, out); };
+    LinearMap apply_M = [&](const std::vector<double>& v, std::vector<double>& out) {
+      if (C)
+        C->apply(v, out);
+      else
+        B.apply(v, out);
+    };
     GmresResult d = gmres(apply_cheap, apply_M, res, go);
     r.cheap_matvecs += d.iterations;
     total = r.cheap_matvecs + r.full_matvecs;

@@ -42,6 +42,16 @@ class CollocationOperator {
   // unit_potential. `mark` is scratch of size() ints, all -1, returned so.
   Eigen::MatrixXd block(const std::vector<uint32_t>& idx, std::vector<int>& mark) const;
   double setup_seconds() const { return setup_seconds_; }
+  // Row i of the precomputed near matrix: A_ij for j = cols[k], k < count.
+  struct NearRow {
+    const uint32_t* cols;
+    const float* vals;
+    size_t count;
+  };
+  NearRow near_row(uint32_t i) const {
+    const auto& cols = leaf_cols_[leaf_[i]];
+    return {cols.data(), &near_val_[near_start_[i]], cols.size()};
+  }
 
  private:
   void apply_with(Fmm& far, const std::vector<double>& q, std::vector<double>& phi) const;

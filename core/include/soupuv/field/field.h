@@ -65,6 +65,10 @@ struct ChargeOptions {
   int krylov_leaf_size = 64;
   // Triangles per block of the block-Jacobi preconditioner (source cells).
   int krylov_block_size = 128;
+  // Krylov only: a coarse correction over the preconditioner's blocks before
+  // the block-Jacobi step (charge_coarse.h): it removes the smooth modes
+  // whose slow convergence made the iteration count grow with n.
+  bool krylov_coarse_correction = true;
   // How the true error is re-evaluated: direct summation up to this many
   // triangles, above it an FMM of order verify_order (0: fmm_order + 2, at
   // theta 0.5 about 10x below the solve's own FMM error) on the solver's
