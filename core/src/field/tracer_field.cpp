@@ -285,26 +285,37 @@ void TracerField::field(int leaf, const Vec3* x, int count, Vec3* E, double* nea
   constexpr int kGroups = 16;
   uint8_t bits[kGroups];
   const int gf = tracer::group_floats(m);
-  // Point by point: a point's near triangles that take a float rule are
-  // batched over its whole near list.
-  RuleBatch batch;
-  for (int i = 0; i < count; ++i) {
-    double e[3] = {0, 0, 0};
-    double* near_i = nearest ? &nearest[i] : nullptr;
+  // Source leaf by source leaf, every point in turn: a leaf's float block
+  // (a few KB) stays in L1 for all points of the block, where point by
+  // point the whole near list (tens of KB) streamed from L2 per point.
+  // Each point keeps its own batch of float-rule triangles.
+  constexpr int kPoints = 32;
+  thread_local std::vector<RuleBatch> batches(kPoints);
+  double e[kPoints][3];
+  for (int i0 = 0; i0 < count; i0 += kPoints) {
+    const int np = std::min(kPoints, count - i0);
+    for (int i = 0; i < np; ++i) e[i][0] = e[i][1] = e[i][2] = 0;
     for (int B : fmm_.near_[leaf]) {
       const Span& s = spans_[span_of_cell_[B]];
-      float xf[3];
-      to_float(x[i] - s.mc, xf);
-      for (int g0 = 0; g0 < s.groups; g0 += kGroups) {
-        const int ng = std::min(kGroups, s.groups - g0);
-        tracer::span_field(&blocks_[s.block + static_cast<size_t>(g0) * gf], ng, m, xf, e, bits);
-        for (int g = 0; g < ng; ++g)
-          for (unsigned b = bits[g]; b != 0; b &= b - 1)
-            near_candidate(s.first + (g0 + g) * tracer::kLanes + __builtin_ctz(b), x[i], e, near_i, batch);
+      for (int i = 0; i < np; ++i) {
+        const Vec3 xi = x[i0 + i];
+        double* near_i = nearest ? &nearest[i0 + i] : nullptr;
+        float xf[3];
+        to_float(xi - s.mc, xf);
+        for (int g0 = 0; g0 < s.groups; g0 += kGroups) {
+          const int ng = std::min(kGroups, s.groups - g0);
+          tracer::span_field(&blocks_[s.block + static_cast<size_t>(g0) * gf], ng, m, xf, e[i], bits);
+          for (int g = 0; g < ng; ++g)
+            for (unsigned b = bits[g]; b != 0; b &= b - 1)
+              near_candidate(s.first + (g0 + g) * tracer::kLanes + __builtin_ctz(b), xi, e[i], near_i,
+                             batches[i]);
+        }
       }
     }
-    batch.flush(e);
-    E[i] += Vec3{e[0], e[1], e[2]};
+    for (int i = 0; i < np; ++i) {
+      batches[i].flush(e[i]);
+      E[i0 + i] += Vec3{e[i][0], e[i][1], e[i][2]};
+    }
   }
 }
 
