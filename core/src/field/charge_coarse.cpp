@@ -8,6 +8,23 @@
 
 namespace soupuv::field {
 
+namespace {
+// sum_k w[k] / |x - p_k| over the k with taken[k] != row (the triangles the
+// near matrix did not already give). Flat, so it vectorises (AVX2 clone).
+__attribute__((target_clones("avx2", "default")))
+double untaken_monopoles(const double* px, const double* py, const double* pz, const double* w,
+                         const int32_t* taken, size_t count, Vec3 x, int32_t row) {
+  double sum = 0;
+#pragma omp simd reduction(+ : sum)
+  for (size_t k = 0; k < count; ++k) {
+    const double dx = x.x - px[k], dy = x.y - py[k], dz = x.z - pz[k];
+    const double v = w[k] / std::sqrt(dx * dx + dy * dy + dz * dz);
+    sum += taken[k] != row ? v : 0.0;
+  }
+  return sum;
+}
+}  // namespace
+
 CoarseCorrection::CoarseCorrection(const CollocationOperator& A, const SourceGeometry& src,
                                    const std::vector<std::vector<uint32_t>>& blocks,
                                    const LeafBlockPreconditioner& fine, int threads, double near_factor)
@@ -54,11 +71,27 @@ CoarseCorrection::CoarseCorrection(const CollocationOperator& A, const SourceGeo
   G_.assign(g_start_[nb], 0.0);
   // G_iJ = sum_{j in J} A_ij w_j: the near matrix's entries where it has
   // them; beyond, the triangles are well separated from i's leaf (the FMM
-  // took them by expansion), so a monopole per triangle is accurate.
+  // took them by expansion), so a monopole per triangle is accurate. The
+  // triangles are laid out block by block (structure of arrays) so the
+  // monopole sums are one vectorised loop per near block.
+  std::vector<size_t> start(nb + 1, 0);
+  for (long b = 0; b < nb; ++b) start[b + 1] = start[b] + blocks_[b].size();
+  std::vector<double> px(n), py(n), pz(n), pw(n);
+  std::vector<uint32_t> pos(n);  // triangle -> its slot in that layout
+  for (long b = 0; b < nb; ++b)
+    for (size_t k = 0; k < blocks_[b].size(); ++k) {
+      const uint32_t j = blocks_[b][k];
+      const size_t at = start[b] + k;
+      px[at] = src.centroid[j].x;
+      py[at] = src.centroid[j].y;
+      pz[at] = src.centroid[j].z;
+      pw[at] = weight_[j];
+      pos[j] = static_cast<uint32_t>(at);
+    }
 #pragma omp parallel num_threads(threads_)
   {
     std::vector<int> slot(nb, -1);
-    std::vector<long> seen(n, -1);  // the row that last took triangle j from the near matrix
+    std::vector<int32_t> taken(n, -1);  // per layout slot: the row that took it from the near matrix
 #pragma omp for schedule(dynamic, 4)
     for (long I = 0; I < nb; ++I) {
       const auto& nbI = near_blocks_[I];
@@ -73,14 +106,12 @@ CoarseCorrection::CoarseCorrection(const CollocationOperator& A, const SourceGeo
           const int s = slot[block_of_[j]];
           if (s < 0) continue;
           g[s] += weight_[j] * static_cast<double>(row.vals[e]);
-          seen[j] = static_cast<long>(i);
+          taken[pos[j]] = static_cast<int32_t>(i);
         }
-        const Vec3 x = src.centroid[i];
         for (size_t s = 0; s < width; ++s) {
-          double sum = 0;
-          for (uint32_t j : blocks_[nbI[s]])
-            if (seen[j] != static_cast<long>(i)) sum += weight_[j] / norm(x - src.centroid[j]);
-          g[s] += sum;
+          const size_t b0 = start[nbI[s]], count = start[nbI[s] + 1] - b0;
+          g[s] += untaken_monopoles(&px[b0], &py[b0], &pz[b0], &pw[b0], &taken[b0], count, src.centroid[i],
+                                    static_cast<int32_t>(i));
         }
       }
       for (int J : nbI) slot[J] = -1;

@@ -51,8 +51,8 @@ TEST(CoarseCorrection, CoarseOperatorMatchesTheDenseMatrix) {
       for (size_t j = 0; j < n; ++j) ref[i] += unit_potential(src, j, src.centroid[i]) * q[j];
     double worst = 0;
     for (size_t i = 0; i < n; ++i) worst = std::max(worst, std::fabs(fast[i] / ref[i] - 1));
-    std::printf("coarse operator (%s) max rel error %.2e over %zu blocks\n", rough ? "rough" : "smooth", worst,
-                blocks.size());
+    std::printf("coarse operator (%s) max rel error %.2e over %zu blocks, %.1f near blocks per row\n",
+                rough ? "rough" : "smooth", worst, blocks.size(), double(C.near_entries()) / n);
     // Far blocks are monopoles (first-order Taylor at the rows): a few
     // percent at most, and the correction only needs the smooth part.
     EXPECT_LT(worst, 0.02);

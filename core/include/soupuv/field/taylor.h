@@ -67,6 +67,11 @@ class TaylorBasis {
   std::vector<double> factorial_;              // a! per index up to order p + 1
   std::vector<double> out_scale_;              // (-1)^|b| / b! per b
   std::vector<std::array<int, 3>> down_;       // per coefficient: index of a - e_i (-1 if none)
+  // monomial a = monomial `from` times coordinate `axis` (the first axis of a)
+  struct MonoStep {
+    int from = 0, axis = 0;
+  };
+  std::vector<MonoStep> mono_step_;
   // The kernel recurrence per coefficient a, flattened: indices of a - e_i and
   // a - 2e_i (index_.size(), a slot holding 0, where absent), (2|a|-1)/|a|, (|a|-1)/|a|.
   struct KernelTerm {
