@@ -99,6 +99,28 @@ TEST(BuildAtlas, MergingShortensSeams) {
   EXPECT_LE(merged.stats.stretch_l2, merge.max_stretch);
 }
 
+// Merged charts are few and big, so utilisation falls below
+// packing_split_below; the packing rounds then halved the biggest charts
+// again and the seams came back longer than without merging (session 3's
+// pipeline run: suzanne 22 -> 24 charts, 14 packing splits). With merging on,
+// no packing split may undo a merge.
+TEST(BuildAtlas, PackingKeepsMergedCharts) {
+  TriMesh sphere = shapes::sphere_with(1.0, 2000);
+  AtlasOptions merge;
+  merge.max_normal_deviation_deg = 70;  // the pipeline's budget
+  merge.merge_charts = true;
+  merge.merge_max_area_fraction = 1;
+  merge.merge_min_fill = 0;
+  AtlasOptions plain = merge;
+  plain.merge_charts = false;
+  AtlasResult p = build_atlas(sphere, plain, Progress::none());
+  AtlasResult m = check_atlas("sphere merged", sphere, merge, 0.4);
+  EXPECT_GT(m.stats.chart_merges, 0);
+  EXPECT_EQ(m.stats.packing_splits, 0);
+  EXPECT_LT(m.stats.charts, p.stats.charts);
+  EXPECT_LT(m.stats.seam_length, p.stats.seam_length);
+}
+
 TEST(BuildAtlas, SmallTextureKeepsPadding) {
   AtlasOptions o;
   o.texture_size = 256;

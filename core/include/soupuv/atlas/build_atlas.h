@@ -70,6 +70,7 @@ struct AtlasOptions {
   // Packing: while utilisation is below `packing_split_below`, the largest
   // charts are halved and everything is packed again, at most
   // `packing_split_rounds` times (few big charts fill a square badly).
+  // Not with merge_charts: halving would undo the merges.
   double packing_split_below = 0.72;
   int packing_split_rounds = 2;
   // Bitmap packer (after the column packer; the denser layout wins): turns
