@@ -68,6 +68,8 @@ Usage:
                              transfer that re-places the UVs around flipped or
                              sliver triangles; on by default, --uv-repair)
       --repair-stretch F     repair triangles stretched beyond F x the median (2)
+      --repair-growth N      rings a repair patch may grow by to find a start (3)
+      --no-untangle          repair without the untangling start (Garanzha et al.)
       --no-refine-intersections  --no-orient  --no-share-lines  --no-chart-fix
       --no-chart-neighbours
 

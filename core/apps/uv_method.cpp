@@ -142,6 +142,10 @@ bool parse_method_flag(const std::vector<std::string>& args, size_t& i, MethodFl
     o.uv_repair = true;
   } else if (a == "--no-uv-repair") {
     o.uv_repair = false;
+  } else if (a == "--repair-growth") {
+    o.repair.max_growth = integer(a, value(), 0, 20);
+  } else if (a == "--no-untangle") {
+    o.repair.untangle = false;
   } else if (a == "--repair-stretch") {
     o.repair.stretch_threshold = number(a, value());
     if (!(o.repair.stretch_threshold > 1)) throw UsageError{"--repair-stretch needs a factor > 1"};

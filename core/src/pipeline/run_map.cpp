@@ -11,6 +11,7 @@
 #include "soupuv/cache/store.h"
 #include "soupuv/errors.h"
 #include "soupuv/quality/discontinuity.h"
+#include "soupuv/quality/stretch_tail.h"
 #include "soupuv/quality/uv_metrics.h"
 #include "soupuv/transfer/intersect.h"
 
@@ -115,6 +116,37 @@ nlohmann::json cache_json(cache::Store* store, size_t hits, size_t misses) {
                   {"memory_bytes", s.memory_bytes}, {"directory", store->options().directory}};
   }
   return j;
+}
+
+// Per-triangle flags for the stretch tail's classes (quality/stretch_tail.h).
+quality::TailFlags tail_flags(const Soup& soup, const pipeline::FieldBranchResult& field,
+                              const quality::Weld& weld, const quality::CornerLanding& landed,
+                              const std::vector<std::array<Vec2, 3>>& unrepaired,
+                              const std::vector<std::array<Vec2, 3>>& uvs) {
+  const size_t n = soup.triangles.size();
+  quality::TailFlags f;
+  f.cut.assign(n, 0);
+  for (const auto& p : field.probes)
+    if (p.corner_off[0] || p.corner_off[1] || p.corner_off[2]) f.cut[p.triangle] = 1;
+  if (weld.corner_vertex.size() == 3 * n) {
+    // A welded vertex used on two charts lies on a seam or an open chart border.
+    std::vector<int> chart_of(weld.vertex_count, -1);
+    std::vector<uint8_t> border(weld.vertex_count, 0);
+    for (size_t c = 0; c < 3 * n; ++c) {
+      int& seen = chart_of[weld.corner_vertex[c]];
+      if (seen >= 0 && seen != landed.final_chart[c]) border[weld.corner_vertex[c]] = 1;
+      seen = landed.final_chart[c];
+    }
+    f.chart_border.assign(n, 0);
+    for (size_t c = 0; c < 3 * n; ++c) f.chart_border[c / 3] |= border[weld.corner_vertex[c]];
+  }
+  if (unrepaired.size() == n) {
+    f.repaired.assign(n, 0);
+    for (size_t t = 0; t < n; ++t)
+      for (int k = 0; k < 3; ++k)
+        f.repaired[t] |= unrepaired[t][k].x != uvs[t][k].x || unrepaired[t][k].y != uvs[t][k].y;
+  }
+  return f;
 }
 
 MapResult run_box(const Soup& soup, const MapOptions& options, Progress& progress) {
@@ -244,6 +276,8 @@ MapResult run_map(const Soup& soup, const MapOptions& options, Progress& progres
   // run shows what the post-process changed.
   nlohmann::json repair_json = {{"enabled", options.uv_repair}};
   double seconds_repair = 0;
+  const std::vector<std::array<Vec2, 3>> unrepaired = options.uv_repair ? tr.corner_uvs
+                                                                        : decltype(tr.corner_uvs){};
   if (options.uv_repair) {
     double before_seconds = 0;
     const quality::UvMetrics before = measure(soup, tr.corner_uvs, adjacency, options,
@@ -272,6 +306,8 @@ MapResult run_map(const Soup& soup, const MapOptions& options, Progress& progres
     landed.final_chart[c] = pb.atlas.atlas.face_chart[tr.landing[c].face];
   const quality::DiscontinuityBreakdown causes = quality::discontinuity_breakdown(
       soup, tr.corner_uvs, adjacency, landed, options.metrics_texture_size, m.uv_per_length);
+  const quality::StretchTail tail = quality::stretch_tail(
+      soup, tr.corner_uvs, landed, tail_flags(soup, field, weld, landed, unrepaired, tr.corner_uvs));
 
   MapResult r;
   r.corner_uvs.reserve(3 * soup.triangles.size());
@@ -314,6 +350,7 @@ MapResult run_map(const Soup& soup, const MapOptions& options, Progress& progres
                    {"cut_triangles_corrected", cut_corrected}};
   d["uv"] = uv_json(m, soup, options);
   d["uv"]["causes"] = causes.to_json();
+  d["uv"]["stretch_tail"] = tail.to_json();
   d["uv"]["repaired_vertices"] = repair_json.value("repaired_vertices", 0);
   d["uv"]["repaired_triangles"] = repair_json.value("repaired_triangles", 0);
   d["uv_repair"] = repair_json;

@@ -10,6 +10,7 @@
 #include "soupuv/errors.h"
 #include "soupuv/union_find.h"
 #include "transfer/sym_dirichlet.h"
+#include "transfer/untangle_energy.h"
 
 namespace soupuv::transfer {
 
@@ -25,6 +26,7 @@ nlohmann::json UvRepairResult::diagnostics() const {
           {"failed_too_large", failed_too_large},
           {"repaired_vertices", repaired_vertices},
           {"repaired_triangles", repaired_triangles},
+          {"failed_detail", failed_detail},
           {"seconds", seconds}};
 }
 
@@ -240,6 +242,34 @@ class Patch {
     }
   }
 
+  // Start 4, when every other start folds (a fan open at a chart border,
+  // a ring no convex combination fits): from the current placement, descend
+  // on the untangling energy (untangle_energy.h), which is finite on folds,
+  // lowering its eps as Garanzha et al. do, until every triangle is
+  // positive. True when it got there; the patch then minimises as usual.
+  bool untangle(int max_rounds, int sweeps) {
+    double worst = min_det();
+    double eps = std::sqrt(1e-12 + 0.04 * std::pow(std::min(worst, 0.0), 2));
+    for (int round = 0; round < max_rounds; ++round) {
+      const double before = untangle_total(eps);
+      for (int s = 0; s < sweeps; ++s) {
+        const double start = untangle_total(eps);
+        for (size_t i = 0; i < free_.size(); ++i) untangle_vertex(i, eps);
+        if (!(start - untangle_total(eps) > 1e-9 * start)) break;
+      }
+      const double after = untangle_total(eps);
+      worst = min_det();
+      // Positive is not enough: a just-unfolded patch is a set of slivers the
+      // barrier descent grows only slowly; go on while the energy still falls.
+      if (worst > 0 && !(before - after > 1e-3 * before)) return true;
+      // Garanzha et al.'s schedule: eps follows how far the fold still is.
+      const double sigma = std::max(1 - after / before, 0.1);
+      const double mu = (1 - sigma) * detail::chi(worst, eps);
+      eps = worst < mu ? 2 * std::sqrt(mu * (mu - worst)) : 1e-10;
+    }
+    return min_det() > 0;
+  }
+
   // Coordinate descent on the symmetric Dirichlet energy, one free vertex at
   // a time, with a backtracking line search that never accepts a flip (the
   // energy is infinite there) nor a UV outside [0,1]^2.
@@ -295,6 +325,79 @@ class Patch {
 
  private:
   struct Use { uint32_t tri; uint8_t k; };
+
+  double min_det() const {
+    double worst = kInf;
+    for (size_t i = 0; i < triangles_.size(); ++i) {
+      const RestTriangle& r = rest_[triangles_[i]];
+      if (r.valid) worst = std::min(worst, detail::jacobian(r, corners(i)).det());
+    }
+    return worst;
+  }
+  double untangle_total(double eps) const {
+    double e = 0;
+    for (size_t i = 0; i < triangles_.size(); ++i) {
+      const RestTriangle& r = rest_[triangles_[i]];
+      if (r.valid) e += detail::untangle_energy(r, corners(i), eps);
+    }
+    return e;
+  }
+  double untangle_local(size_t i, double eps) const {
+    double e = 0;
+    for (auto [tri, k] : around_[i]) {
+      const RestTriangle& r = rest_[triangles_[tri]];
+      if (r.valid) e += detail::untangle_energy(r, corners(tri), eps);
+    }
+    return e;
+  }
+  Vec2 untangle_grad(size_t i, double eps) const {
+    Vec2 g{0, 0};
+    for (auto [tri, k] : around_[i]) {
+      const RestTriangle& r = rest_[triangles_[tri]];
+      if (r.valid) g = g + detail::untangle_gradient(r, corners(tri), k, eps);
+    }
+    return g;
+  }
+  // One Newton step on vertex i (2x2 Hessian by central differences of the
+  // exact gradient), gradient descent where that Hessian is not positive,
+  // with backtracking that keeps the vertex in [0,1]^2.
+  void untangle_vertex(size_t i, double eps) {
+    const Vec2 old = uv_[i];
+    const Vec2 g = untangle_grad(i, eps);
+    if (!(norm(g) > 0)) return;
+    double reach = 0;  // local length scale for the difference step
+    for (auto [tri, k] : around_[i]) {
+      const auto c = corners(tri);
+      reach = std::max({reach, norm(c[1] - c[0]), norm(c[2] - c[1]), norm(c[0] - c[2])});
+    }
+    const double h = 1e-6 * std::max(reach, 1e-9);
+    uv_[i] = old + Vec2{h, 0};
+    const Vec2 gx1 = untangle_grad(i, eps);
+    uv_[i] = old - Vec2{h, 0};
+    const Vec2 gx0 = untangle_grad(i, eps);
+    uv_[i] = old + Vec2{0, h};
+    const Vec2 gy1 = untangle_grad(i, eps);
+    uv_[i] = old - Vec2{0, h};
+    const Vec2 gy0 = untangle_grad(i, eps);
+    uv_[i] = old;
+    const double hxx = (gx1.x - gx0.x) / (2 * h), hyy = (gy1.y - gy0.y) / (2 * h);
+    const double hxy = 0.25 * ((gx1.y - gx0.y) + (gy1.x - gy0.x)) / h;
+    const double det = hxx * hyy - hxy * hxy;
+    Vec2 step;
+    if (hxx > 0 && det > 0)
+      step = {-(hyy * g.x - hxy * g.y) / det, -(-hxy * g.x + hxx * g.y) / det};
+    else
+      step = (-std::max(reach, 1e-9) / norm(g)) * g;
+    const double e0 = untangle_local(i, eps);
+    for (double alpha = 1; alpha > 1e-9; alpha *= 0.5) {
+      const Vec2 p = old + alpha * step;
+      if (!in_unit_square(p)) continue;
+      uv_[i] = p;
+      if (untangle_local(i, eps) < e0) return;
+    }
+    uv_[i] = old;
+  }
+
   std::vector<uint32_t> free_;
   const std::vector<RestTriangle>& rest_;
   const std::vector<std::array<Vec2, 3>>& uvs_;
@@ -380,6 +483,10 @@ UvRepairResult repair_uvs(const Soup& soup, const quality::Weld& weld,
         patch.start_at_copies();  // vertices no triangle reaches keep their copies' mean
         patch.start_unfolding();
       }
+      if (options.untangle && !std::isfinite(patch.energy())) {
+        patch.start_at_copies();
+        patch.untangle(options.untangle_rounds, 50);
+      }
       why = no_start;
       if (std::isfinite(patch.energy())) {
         patch.minimise(options.max_sweeps);
@@ -408,6 +515,25 @@ UvRepairResult repair_uvs(const Soup& soup, const quality::Weld& weld,
       free_vertices.erase(std::unique(free_vertices.begin(), free_vertices.end()), free_vertices.end());
     }
     (done ? r.repaired_patches : r.failed_patches) += 1;
+    if (!done && r.failed_detail.size() < 12) {
+      // What a failed patch looked like at its last try, to tell causes apart.
+      Patch last(free_vertices, verts, rest, uvs);
+      size_t fixed_corners = 0, invalid = 0;
+      for (uint32_t t : last.triangles()) invalid += !rest[t].valid;
+      for (size_t i = 0; i < last.triangles().size(); ++i)
+        for (int k = 0; k < 3; ++k)
+          fixed_corners += !std::binary_search(free_vertices.begin(), free_vertices.end(),
+                                               verts.of_corner[3 * last.triangles()[i] + k]);
+      r.failed_detail.push_back(
+          {{"first_triangle", verts.corners[verts.start[patches[p][0]]] / 3},
+           {"seed_vertices", patches[p].size()},
+           {"free_vertices", free_vertices.size()},
+           {"triangles", last.triangles().size()},
+           {"fixed_corners", fixed_corners},
+           {"degenerate_3d", invalid},
+           {"reason", why == too_large ? "too_large" : why == no_start ? "no_start"
+                                       : why == no_gain ? "no_gain" : "sliver"}});
+    }
     if (!done) {
       (why == too_large ? r.failed_too_large : why == no_start ? r.failed_no_start
                                            : why == no_gain ? r.failed_no_gain : r.failed_sliver) += 1;

@@ -56,6 +56,11 @@ struct UvRepairOptions {
   // rise (spot L2 3.60 vs 2.03, suzanne continuity 0.8634 vs 0.8620).
   bool keep_seam_vertices = false;
   int max_growth = 3;                // rings added to a patch with no flip-free start
+  // When the copies' mean, Tutte and unfolding all fold, untangle
+  // (Garanzha et al. 2021) from the copies' mean for up to untangle_rounds
+  // rounds of its eps schedule.
+  bool untangle = true;
+  int untangle_rounds = 30;
   int max_sweeps = 100;              // coordinate-descent sweeps per patch
   size_t max_patch_vertices = 4000;  // larger patches are left alone (counted)
 };
@@ -72,6 +77,9 @@ struct UvRepairResult {
   size_t failed_no_start = 0, failed_no_gain = 0, failed_sliver = 0, failed_too_large = 0;
   size_t repaired_vertices = 0;    // UV vertices (welded vertex, chart) moved
   size_t repaired_triangles = 0;   // soup triangles with a moved corner
+  // The first failed patches at their last try: a triangle of the seed,
+  // sizes, fixed corners, 3D-degenerate triangles, reason.
+  nlohmann::json failed_detail = nlohmann::json::array();
   double seconds = 0;
   nlohmann::json diagnostics() const;
 };
