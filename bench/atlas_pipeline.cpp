@@ -13,7 +13,9 @@
 //                        (max_stretch), merge (0/1), merge_crease,
 //                        merge_area, merge_fill, pack_splits, split_below,
 //                        offset (proxy offset, fraction of the diagonal;
-//                        default: auto).
+//                        default: auto), proxy_edge (proxy remeshing edge
+//                        length, fraction of the diagonal; default: the
+//                        offset).
 //   --quick              suzanne and Fox, the pipeline's atlas only.
 //
 // One JSON line per (sample, variant) with the uv figures, the atlas's
@@ -52,7 +54,8 @@ const std::vector<Sample> kSamples = {
 struct Variant {
   std::string name;
   atlas::AtlasOptions atlas = map_atlas_defaults();
-  double offset = 0;  // 0: the pipeline's automatic offset
+  double offset = 0;      // 0: the pipeline's automatic offset
+  double proxy_edge = 0;  // 0: the proxy's own choice (the offset)
 };
 
 // "NAME:K=V,K=V" -> a variant of the pipeline's atlas.
@@ -78,6 +81,7 @@ Variant parse_variant(const std::string& text) {
     else if (key == "pack_splits") a.packing_split_rounds = int(value);
     else if (key == "split_below") a.packing_split_below = value;
     else if (key == "offset") v.offset = value;
+    else if (key == "proxy_edge") v.proxy_edge = value;
     else throw Error(ErrorCode::invalid_input, "unknown variant key: " + key);
   }
   return v;
@@ -133,6 +137,9 @@ int run_atlas_pipeline(const bench::Args& args) {
       if (variants[v].offset > 0) {
         o.proxy.offset_mode = proxy::OffsetMode::relative;
         o.proxy.offset = variants[v].offset;
+      }
+      if (variants[v].proxy_edge > 0) {
+        o.proxy.target_edge_length = variants[v].proxy_edge * bounding_box(soup).diagonal();
       }
       const double c0 = cpu_seconds();
       const auto t0 = std::chrono::steady_clock::now();
