@@ -27,7 +27,8 @@ double untaken_monopoles(const double* px, const double* py, const double* pz, c
 
 CoarseCorrection::CoarseCorrection(const CollocationOperator& A, const SourceGeometry& src,
                                    const std::vector<std::vector<uint32_t>>& blocks,
-                                   const LeafBlockPreconditioner& fine, int threads, double near_factor)
+                                   const LeafBlockPreconditioner& fine, int threads, double near_factor,
+                                   double touch_factor)
     : src_(src), fine_(fine), threads_(threads > 0 ? threads : omp_get_max_threads()), blocks_(blocks) {
   const size_t n = src.size();
   const long nb = static_cast<long>(blocks_.size());
@@ -65,6 +66,16 @@ CoarseCorrection::CoarseCorrection(const CollocationOperator& A, const SourceGeo
       const double reach = near_factor * (row_radius[I] + source_radius[J]);
       if (J == I || norm2(row_centre_[I] - source_centre_[J]) < reach * reach)
         near_blocks_[I].push_back(static_cast<int>(J));
+    }
+  // Touching blocks (centres closer than touch_factor * (radius_I +
+  // radius_J)) are summed triangle by triangle; the other near blocks are
+  // far enough for the block's own monopole at each row (one term per row
+  // instead of a hundred).
+  std::vector<std::vector<char>> touching(nb);
+  for (long I = 0; I < nb; ++I)
+    for (int J : near_blocks_[I]) {
+      const double reach = touch_factor * (row_radius[I] + source_radius[J]);
+      touching[I].push_back(J == I || norm2(row_centre_[I] - source_centre_[J]) < reach * reach);
     }
   g_start_.assign(nb + 1, 0);
   for (long I = 0; I < nb; ++I) g_start_[I + 1] = g_start_[I] + blocks_[I].size() * near_blocks_[I].size();
@@ -104,13 +115,20 @@ CoarseCorrection::CoarseCorrection(const CollocationOperator& A, const SourceGeo
         for (size_t e = 0; e < row.count; ++e) {
           const uint32_t j = row.cols[e];
           const int s = slot[block_of_[j]];
-          if (s < 0) continue;
+          if (s < 0 || !touching[I][s]) continue;
           g[s] += weight_[j] * static_cast<double>(row.vals[e]);
           taken[pos[j]] = static_cast<int32_t>(i);
         }
+        const Vec3 x = src.centroid[i];
         for (size_t s = 0; s < width; ++s) {
-          const size_t b0 = start[nbI[s]], count = start[nbI[s] + 1] - b0;
-          g[s] += untaken_monopoles(&px[b0], &py[b0], &pz[b0], &pw[b0], &taken[b0], count, src.centroid[i],
+          const int J = nbI[s];
+          if (!touching[I][s]) {
+            // Near, but not touching: the block's monopole at x itself.
+            g[s] = 1.0 / norm(x - source_centre_[J]);
+            continue;
+          }
+          const size_t b0 = start[J], count = start[J + 1] - b0;
+          g[s] += untaken_monopoles(&px[b0], &py[b0], &pz[b0], &pw[b0], &taken[b0], count, x,
                                     static_cast<int32_t>(i));
         }
       }

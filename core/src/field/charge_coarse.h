@@ -38,10 +38,12 @@ namespace soupuv::field {
 class CoarseCorrection {
  public:
   // near_factor: blocks I, J are summed per row when their centres are
-  // closer than near_factor * (radius_I + radius_J), else as a monopole.
+  // closer than near_factor * (radius_I + radius_J), else as a monopole
+  // Taylor-expanded at I's centre; within touch_factor * (...) per triangle,
+  // beyond it as J's monopole at each row.
   CoarseCorrection(const CollocationOperator& A, const SourceGeometry& src,
                    const std::vector<std::vector<uint32_t>>& blocks, const LeafBlockPreconditioner& fine,
-                   int threads, double near_factor = 2.0);
+                   int threads, double near_factor = 2.0, double touch_factor = 1.3);
   void apply(const std::vector<double>& r, std::vector<double>& z) const;
   size_t coarse_size() const { return blocks_.size(); }
   // Row-by-block entries of the near part of A~ P.

@@ -45,9 +45,7 @@ CollocationOperator::CollocationOperator(const SourceGeometry& sources, const Fm
   if (cheap_order > 0 && cheap_order < options.order) {
     // Same tree and lists (they do not depend on the order), so the near
     // matrix below is exactly the cheap FMM's near field too.
-    FmmOptions co = options;
-    co.order = cheap_order;
-    cheap_ = std::make_unique<Fmm>(src_, co, src_.centroid);
+    cheap_ = std::make_unique<Fmm>(*fmm_, cheap_order);
   }
   const long n = static_cast<long>(src_.size());
   leaf_.resize(n);
@@ -108,10 +106,8 @@ void CollocationOperator::apply_order(const std::vector<double>& q, std::vector<
   if (order == options_.order) return apply_with(*fmm_, q, phi);
   auto& far = by_order_[order];
   if (!far) {
-    // Same options but the order: same tree and lists, so the near matrix fits.
-    FmmOptions o = options_;
-    o.order = order;
-    far = std::make_unique<Fmm>(src_, o, src_.centroid);
+    // Same tree and lists, so the near matrix fits.
+    far = std::make_unique<Fmm>(*fmm_, order);
   }
   apply_with(*far, q, phi);
 }

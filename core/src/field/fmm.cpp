@@ -48,6 +48,15 @@ Fmm::Fmm(const SourceGeometry& sources, const FmmOptions& options, const std::ve
   stats_.build_seconds = since(t0);
 }
 
+Fmm::Fmm(const Fmm& other, int order)
+    : src_(other.src_), opt_(other.opt_), basis_(order), ncoef_(basis_.size()), order_(other.order_),
+      scells_(other.scells_), slevels_(other.slevels_), point_charge_(other.point_charge_.size(), 0.0),
+      points_(other.points_), tri_charge_(other.tri_charge_.size(), 0.0), tcells_(other.tcells_),
+      tlevels_(other.tlevels_), m2l_(other.m2l_), near_(other.near_), stats_(other.stats_) {
+  opt_.order = order;
+  stats_.build_seconds = 0;
+}
+
 void Fmm::build_source_tree() {
   const size_t n = src_.size();
   order_.resize(n);

@@ -55,6 +55,10 @@ class Fmm {
   // Targets known in advance (e.g. the collocation centroids): the target tree
   // is refined only where they are (cells of more than leaf_size targets).
   Fmm(const SourceGeometry& sources, const FmmOptions& options, const std::vector<Vec3>& targets);
+  // The same trees and interaction lists as `other` (they do not depend on
+  // the order) with expansions of another order: no rebuild. The charge
+  // solver's cheap inner operator and its verification use it.
+  Fmm(const Fmm& other, int order);
 
   // One charge per source triangle (input order). Recomputes all expansions.
   void set_charges(const std::vector<double>& charges);
