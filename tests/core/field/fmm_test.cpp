@@ -97,3 +97,36 @@ TEST(Fmm, ErrorShrinksWithOrder) {
     }
   }
 }
+
+TEST(Fmm, CopyForAnotherOrderMatchesAFreshBuild) {
+  // Fmm(other, order) reuses other's trees and lists: it must evaluate
+  // exactly as an Fmm built from scratch with that order.
+  Soup soup = shapes::to_soup(shapes::torus_with(1.0, 0.5, 3200), 1e-3, 1);
+  SourceGeometry src = make_sources(soup.positions, soup.triangles, 4);
+  FmmOptions fo;
+  fo.order = 8;
+  fo.leaf_size = 32;
+  fo.threads = 1;
+  Fmm base(src, fo, src.centroid);
+  Fmm copied(base, 5);
+  fo.order = 5;
+  Fmm fresh(src, fo, src.centroid);
+  std::vector<double> q(src.size());
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<double> u(0.5, 1.5);
+  for (double& v : q) v = u(rng);
+  copied.set_charges(q);
+  fresh.set_charges(q);
+  base.set_charges(q);
+  double worst = 0, order_gap = 0;
+  for (size_t i = 0; i < src.size(); i += 7) {
+    double a = 0, b = 0, c = 0;
+    copied.evaluate(src.centroid[i], &a, nullptr);
+    fresh.evaluate(src.centroid[i], &b, nullptr);
+    base.evaluate(src.centroid[i], &c, nullptr);
+    worst = std::max(worst, std::fabs(a - b) / std::fabs(b));
+    order_gap = std::max(order_gap, std::fabs(a - c) / std::fabs(c));
+  }
+  EXPECT_LT(worst, 1e-13);
+  EXPECT_GT(order_gap, 1e-9);  // it really is the lower order, not the base's expansions
+}
