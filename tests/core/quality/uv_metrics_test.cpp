@@ -195,3 +195,47 @@ TEST(Weld, NeverCollapsesATriangle) {
   EXPECT_EQ(w.corner_vertex[0], w.corner_vertex[3]);
   EXPECT_EQ(w.corner_vertex[1], w.corner_vertex[4]);
 }
+
+// What the L2 stretch does with degenerate triangles (uv_metrics.h): a 3D
+// sliver mapped faithfully costs nothing extra (its weight is its tiny 3D
+// area and its map is an isometry); a zero-area 3D triangle is left out; a
+// UV triangle collapsed to nothing is counted as flipped, not in the sum; but
+// a sliver squeezed flatter in UV than in 3D is real distortion and shows.
+TEST(UvMetrics, DegenerateTrianglesNeitherBlowUpNorHide) {
+  Soup s = grid_soup(4, 0.0);
+  const size_t grid = s.triangles.size();
+  auto add = [&](Vec3 a, Vec3 b, Vec3 c) {
+    const uint32_t i = uint32_t(s.positions.size());
+    s.positions.insert(s.positions.end(), {a, b, c});
+    s.triangles.push_back({i, i + 1, i + 2});
+    s.origins.push_back({});
+  };
+  add({0.2, 0.2, 0}, {0.4, 0.2, 0}, {0.3, 0.2 + 1e-7, 0});  // 3D sliver, aspect 5e-6
+  CornerUvs uv = planar_uvs(s, 0.5);
+  UvMetrics faithful = uv_metrics(s, uv, {});
+  EXPECT_EQ(faithful.flipped, 0u);
+  EXPECT_NEAR(faithful.stretch_l2, 1.0, 1e-6);
+
+  // The same sliver 100x flatter in UV than in 3D: stretch 100 on its own,
+  // still tiny in the area-weighted sum, but nonzero.
+  uv[grid][2].y = 0.05 + 0.5 * (0.2 + 1e-9);
+  UvMetrics squeezed = uv_metrics(s, uv, {});
+  EXPECT_GT(squeezed.stretch_l2, faithful.stretch_l2 + 1e-9);
+  EXPECT_GT(squeezed.stretch_linf, 50.0);
+
+  // A UV triangle of exactly zero area: flipped, out of the L2 sum.
+  uv[grid][2] = uv[grid][0];
+  UvMetrics collapsed = uv_metrics(s, uv, {});
+  EXPECT_EQ(collapsed.flipped, 1u);
+  EXPECT_NEAR(collapsed.stretch_l2, 1.0, 1e-6);
+
+  // A zero-area 3D triangle: no weight, no map; neither flipped nor stretched
+  // (its UV area still counts in the global scale: texture spent on nothing).
+  add({0.5, 0.5, 0}, {0.6, 0.5, 0}, {0.7, 0.5, 0});
+  uv.push_back({Vec2{0.3, 0.3}, Vec2{0.35, 0.3}, Vec2{0.3, 0.35}});
+  uv[grid] = planar_uvs(s, 0.5)[grid];
+  UvMetrics zero = uv_metrics(s, uv, {});
+  EXPECT_EQ(zero.flipped, 0u);
+  EXPECT_GE(zero.stretch_l2, 1.0);
+  EXPECT_LT(zero.stretch_l2, 1.01);
+}

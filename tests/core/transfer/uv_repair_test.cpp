@@ -150,3 +150,37 @@ TEST(UvRepair, VerticesOnTwoChartsStayApart) {
       }
     }
 }
+
+// A chart island of one grid cell (its two triangles on chart 1, the rest on
+// chart 0) whose UVs are mirrored and shrunk: no corner is fixed, so the
+// copies' mean keeps the fold, Tutte collapses everything to a point and
+// unfolding has nothing to start from. Only the untangling start
+// (Garanzha et al.) gets it flip-free; without it the patch fails.
+TEST(UvRepair, MirroredChartIslandNeedsTheUntanglingStart) {
+  auto make = [] {
+    Case c;
+    for (size_t t = 0; t < c.soup.triangles.size(); ++t) {
+      const Vec3 centre = (c.soup.corner(t, 0) + c.soup.corner(t, 1) + c.soup.corner(t, 2)) / 3.0;
+      if (centre.x > 3 && centre.x < 4 && centre.y > 3 && centre.y < 4) {
+        c.chart[t] = 1;
+        for (int k = 0; k < 3; ++k) {
+          const Vec3 p = c.soup.corner(t, k);
+          c.uvs[t][k] = Vec2{0.7, 0.7} + 1e-3 * Vec2{-(p.x - 3.5), p.y - 3.5};  // mirrored in x
+        }
+      }
+    }
+    return c;
+  };
+  Case with = make();
+  ASSERT_EQ(with.metrics().flipped, 2u);
+  UvRepairResult r = repair_uvs(with.soup, with.weld, with.chart, kScale, with.uvs);
+  EXPECT_EQ(with.metrics().flipped, 0u);
+  EXPECT_EQ(r.failed_patches, 0u);
+
+  Case without = make();
+  UvRepairOptions o;
+  o.untangle = false;
+  UvRepairResult r0 = repair_uvs(without.soup, without.weld, without.chart, kScale, without.uvs, o);
+  EXPECT_EQ(without.metrics().flipped, 2u);
+  EXPECT_EQ(r0.failed_patches, 1u);
+}

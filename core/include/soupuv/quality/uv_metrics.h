@@ -6,6 +6,17 @@
 //         triangle order, or by welding the soup within a tolerance).
 // Output: coverage, flipped fraction, area-weighted L2 stretch (Sander et al.
 //         2001), continuity (noise-aware and plain 1-texel) and UV islands.
+//
+// Degenerate triangles (as Sander et al.: the stretch is the map from UV onto
+// the surface, weighted by 3D area):
+//   - zero 3D area: no weight and no map — left out of every figure but
+//     coverage (a 3D sliver of tiny but nonzero area mapped faithfully has
+//     stretch ~1 and tiny weight: it cannot blow the figure up);
+//   - zero (or < 1e-6 of the mean ratio) UV area with 3D area: stretch is
+//     infinite, so it is counted as flipped, not added to the L2 sum;
+//   - flipped with nonzero UV area: counted as flipped AND its singular
+//     values enter the L2 sum (a nearly collapsed fold is real distortion
+//     and stays visible there; causes.stretch_l2_unflipped leaves them out).
 #pragma once
 
 #include <array>
