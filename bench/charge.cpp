@@ -121,6 +121,7 @@ int run_charge(const bench::Args& args) {
     // Krylov tuning knobs (defaults: ChargeOptions)
     if (args.rest[i] == "--leaf") krylov_base.krylov_leaf_size = std::stoi(args.rest[i + 1]);
     if (args.rest[i] == "--block") krylov_base.krylov_block_size = std::stoi(args.rest[i + 1]);
+    if (args.rest[i] == "--overlap") krylov_base.krylov_overlap_ratio = std::stod(args.rest[i + 1]);
     if (args.rest[i] == "--max-iterations") krylov_base.max_iterations = std::stoi(args.rest[i + 1]);
     if (args.rest[i] == "--inner-order") krylov_base.krylov_inner_order = std::stoi(args.rest[i + 1]);
     if (args.rest[i] == "--inner-tol") krylov_base.krylov_inner_tolerance = std::stod(args.rest[i + 1]);

@@ -160,16 +160,48 @@ Eigen::MatrixXd CollocationOperator::block(const std::vector<uint32_t>& idx, std
   return A;
 }
 
+void CollocationOperator::strong_couplings(uint32_t i, double ratio, std::vector<uint32_t>& out) const {
+  const auto& cols = leaf_cols_[leaf_[i]];
+  const float* val = &near_val_[near_start_[i]];
+  double self = 0;
+  for (size_t k = 0; k < cols.size(); ++k)
+    if (cols[k] == i) self = val[k];
+  if (!(self > 0)) return;
+  for (size_t k = 0; k < cols.size(); ++k)
+    if (cols[k] != i && val[k] >= ratio * self) out.push_back(cols[k]);
+}
+
 LeafBlockPreconditioner::LeafBlockPreconditioner(const CollocationOperator& op,
-                                                 const std::vector<std::vector<uint32_t>>& blocks, int threads)
-    : blocks_(blocks), lu_(blocks.size()), threads_(threads > 0 ? threads : omp_get_max_threads()) {
-#pragma omp parallel num_threads(threads_)
+                                                 const std::vector<std::vector<uint32_t>>& blocks, int threads,
+                                                 double overlap_ratio)
+    : blocks_(blocks), own_(blocks.size()), lu_(blocks.size()),
+      threads_(threads > 0 ? threads : omp_get_max_threads()) {
+  size_t overlap = 0;
+#pragma omp parallel num_threads(threads_) reduction(+ : overlap)
   {
     std::vector<int> mark(op.size(), -1);
+    std::vector<uint32_t> strong;
 #pragma omp for schedule(dynamic, 8)
-    for (long b = 0; b < static_cast<long>(blocks_.size()); ++b)
-      lu_[b] = Eigen::PartialPivLU<Eigen::MatrixXd>(op.block(blocks_[b], mark));
+    for (long b = 0; b < static_cast<long>(blocks_.size()); ++b) {
+      auto& idx = blocks_[b];
+      own_[b] = idx.size();
+      if (overlap_ratio > 0) {
+        strong.clear();
+        for (size_t k = 0; k < own_[b]; ++k) op.strong_couplings(idx[k], overlap_ratio, strong);
+        // `mark` doubles as the membership test (block() leaves it all -1).
+        for (uint32_t j : idx) mark[j] = 0;
+        for (uint32_t j : strong)
+          if (mark[j] < 0) {
+            mark[j] = 0;
+            idx.push_back(j);
+          }
+        for (uint32_t j : idx) mark[j] = -1;
+        overlap += idx.size() - own_[b];
+      }
+      lu_[b] = Eigen::PartialPivLU<Eigen::MatrixXd>(op.block(idx, mark));
+    }
   }
+  overlap_ = overlap;
 }
 
 void LeafBlockPreconditioner::apply(const std::vector<double>& r, std::vector<double>& z) const {
@@ -182,7 +214,8 @@ void LeafBlockPreconditioner::apply(const std::vector<double>& r, std::vector<do
     Eigen::VectorXd v(idx.size());
     for (size_t k = 0; k < idx.size(); ++k) v[k] = r[idx[k]];
     Eigen::VectorXd x = lu_[b].solve(v);
-    for (size_t k = 0; k < idx.size(); ++k) z[idx[k]] = x[k];
+    // Own rows only: every triangle is written by exactly one block.
+    for (size_t k = 0; k < own_[b]; ++k) z[idx[k]] = x[k];
   }
 }
 

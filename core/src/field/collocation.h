@@ -41,6 +41,10 @@ class CollocationOperator {
   // from the near matrix where it has them (float-rounded), the rest by
   // unit_potential. `mark` is scratch of size() ints, all -1, returned so.
   Eigen::MatrixXd block(const std::vector<uint32_t>& idx, std::vector<int>& mark) const;
+  // Appends to `out` the triangles j != i with A_ij >= ratio * A_ii (from the
+  // near matrix): the triangles that nearly coincide with triangle i as seen
+  // from its centroid (overlapping copies in a noisy soup).
+  void strong_couplings(uint32_t i, double ratio, std::vector<uint32_t>& out) const;
   double setup_seconds() const { return setup_seconds_; }
   // Row i of the precomputed near matrix: A_ij for j = cols[k], k < count.
   struct NearRow {
@@ -76,20 +80,32 @@ class CollocationOperator {
   double setup_seconds_ = 0;
 };
 
-// Block-Jacobi over compact groups of source triangles: each block is A
-// restricted to a group's triangles (rows: their centroids), LU-factorised
-// once. The entries come from the operator's near matrix (a block's
-// triangles are near each other): recomputing them was ~6 % of a solve.
+// Block-Jacobi over compact groups of source triangles, with overlap
+// (restricted additive Schwarz): each block is extended by the triangles
+// strongly coupled to one of its rows (A_ij >= overlap_ratio * A_ii), A is
+// restricted to the extended set and LU-factorised once, and applying it
+// writes back only the block's own rows. Without the overlap, two
+// neighbouring triangles that fall into different blocks leave their
+// difference mode (q_i - q_j) to GMRES: after the coarse correction
+// (charge_coarse.h) that mode, on a few rows along block borders, is where
+// the max residual sits.
+// The entries come from the operator's near matrix (a block's triangles are
+// near each other): recomputing them was ~6 % of a solve.
 class LeafBlockPreconditioner {
  public:
+  // overlap_ratio <= 0: plain block-Jacobi.
   LeafBlockPreconditioner(const CollocationOperator& A, const std::vector<std::vector<uint32_t>>& blocks,
-                          int threads);
+                          int threads, double overlap_ratio = 0);
   void apply(const std::vector<double>& r, std::vector<double>& z) const;
+  // Triangles added by the overlap, over all blocks.
+  size_t overlap_size() const { return overlap_; }
 
  private:
-  std::vector<std::vector<uint32_t>> blocks_;
+  std::vector<std::vector<uint32_t>> blocks_;  // own rows first, then the overlap
+  std::vector<size_t> own_;                    // per block: how many rows are its own
   std::vector<Eigen::PartialPivLU<Eigen::MatrixXd>> lu_;
   int threads_;
+  size_t overlap_ = 0;
 };
 
 // Potentials at the centroids by a fresh evaluation of the final charges:

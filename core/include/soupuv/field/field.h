@@ -69,6 +69,13 @@ struct ChargeOptions {
   // the block-Jacobi step (charge_coarse.h): it removes the smooth modes
   // whose slow convergence made the iteration count grow with n.
   bool krylov_coarse_correction = true;
+  // Overlap of the block-Jacobi blocks (restricted additive Schwarz,
+  // collocation.h): a block also takes every triangle j with
+  // A_ij >= krylov_overlap_ratio * A_ii for one of its rows i; 0: none.
+  // Measured with the coarse correction, noisy 51,200 soup, 2 threads
+  // (loaded machine): 0: 22 mat-vecs, 0.5: 21, 0.3: 13, 0.2: 10 (solve CPU
+  // 9.2 -> 7.3 s), 0.12: 9 with a larger set-up.
+  double krylov_overlap_ratio = 0.2;
   // How the true error is re-evaluated: direct summation up to this many
   // triangles, above it an FMM of order verify_order (0: fmm_order + 2, at
   // theta 0.5 about 10x below the solve's own FMM error) on the solver's
