@@ -179,6 +179,11 @@ LeafBlockPreconditioner::LeafBlockPreconditioner(const CollocationOperator& op,
   size_t overlap = 0;
 #pragma omp parallel num_threads(threads_) reduction(+ : overlap)
   {
+    // This thread's own ICV (it ends with the region): Eigen's LU would
+    // otherwise fork an OpenMP team for the GEMM of every block whenever
+    // this region has one thread (Eigen only stays serial inside a team of
+    // several): 40 % of a one-thread solve's samples were libgomp spinning.
+    omp_set_num_threads(1);
     std::vector<int> mark(op.size(), -1);
     std::vector<uint32_t> strong;
 #pragma omp for schedule(dynamic, 8)
