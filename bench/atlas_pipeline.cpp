@@ -11,7 +11,9 @@
 //                        (repeatable; default: the pipeline's atlas alone).
 //                        Keys: angle (max_normal_deviation_deg), stretch
 //                        (max_stretch), merge (0/1), merge_crease,
-//                        merge_area, merge_fill, pack_splits, split_below,
+//                        merge_area, merge_fill, merge_cone
+//                        (merge_max_normal_deviation_deg), pack_splits,
+//                        split_below,
 //                        offset (proxy offset, fraction of the diagonal;
 //                        default: auto), proxy_edge (proxy remeshing edge
 //                        length, fraction of the diagonal; default: the
@@ -78,6 +80,7 @@ Variant parse_variant(const std::string& text) {
     else if (key == "merge_crease") a.merge_crease_deg = value;
     else if (key == "merge_area") a.merge_max_area_fraction = value;
     else if (key == "merge_fill") a.merge_min_fill = value;
+    else if (key == "merge_cone") a.merge_max_normal_deviation_deg = value;
     else if (key == "pack_splits") a.packing_split_rounds = int(value);
     else if (key == "split_below") a.packing_split_below = value;
     else if (key == "offset") v.offset = value;

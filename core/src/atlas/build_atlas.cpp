@@ -70,6 +70,8 @@ AtlasResult build_atlas(const TriMesh& mesh, const AtlasOptions& options, Progre
     throw Error(ErrorCode::invalid_input, "atlas: padding_px must be in [0, texture_size/4]");
   if (!(options.max_normal_deviation_deg > 0 && options.max_normal_deviation_deg < 90))
     throw Error(ErrorCode::invalid_input, "atlas: max_normal_deviation_deg must be in (0, 90)");
+  if (!(options.merge_max_normal_deviation_deg >= 0 && options.merge_max_normal_deviation_deg <= 180))
+    throw Error(ErrorCode::invalid_input, "atlas: merge_max_normal_deviation_deg must be in [0, 180]");
   if (!(options.max_stretch >= 1))
     throw Error(ErrorCode::invalid_input, "atlas: max_stretch must be at least 1");
   const int threads = options.threads > 0 ? options.threads : omp_get_max_threads();
@@ -151,6 +153,7 @@ AtlasResult build_atlas(const TriMesh& mesh, const AtlasOptions& options, Progre
     merge.crease_deg = options.merge_crease_deg;
     merge.max_area_fraction = options.merge_max_area_fraction;
     merge.min_fill = options.merge_min_fill;
+    merge.max_normal_deviation_deg = options.merge_max_normal_deviation_deg;
     merge.threads = threads;
     stats.chart_merges = merge_charts(mesh, topology, seam, done, face_chart, face_local, merge);
     stats.seconds_merge = since(tm);

@@ -82,6 +82,16 @@ int merge_charts(const TriMesh& mesh, const MeshTopology& t, const std::vector<c
       std::vector<int> faces = charts[batch[i].a].mesh.faces;
       const auto& more = charts[batch[i].b].mesh.faces;
       faces.insert(faces.end(), more.begin(), more.end());
+      if (options.max_normal_deviation_deg > 0) {
+        Vec3 mean{0, 0, 0};
+        for (int f : faces) mean += t.face_area[f] * t.face_normal[f];
+        mean = normalized(mean);
+        const double cos_cone = std::cos(options.max_normal_deviation_deg * M_PI / 180.0);
+        if (!(norm2(mean) > 0) || std::any_of(faces.begin(), faces.end(), [&](int f) {
+              return t.face_area[f] > 0 && dot(t.face_normal[f], mean) < cos_cone;
+            }))
+          continue;
+      }
       merged[i].mesh = extract_chart(mesh, t, faces, face_chart, seam, face_local);
       if (!merged[i].mesh.is_disk()) continue;
       ChartParameterization p = parameterize_chart(merged[i].mesh, options.arap_iterations, options.max_stretch);

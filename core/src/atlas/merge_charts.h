@@ -14,8 +14,8 @@
 // and stay); longest smooth shared boundary first, a greedy matching of
 // candidates is tried in parallel per round: the union is cut out, checked to
 // be a disk and flattened again (LSCM + ARAP); it replaces the pair only if
-// that flattening passes the same tests as any chart (and the size and fill
-// limits below). Rounds repeat on the
+// that flattening passes the same tests as any chart (and the size, fill
+// and normal-cone limits below). Rounds repeat on the
 // merged charts until none merges; a failed pair is not tried again.
 #pragma once
 
@@ -37,6 +37,9 @@ struct MergeOptions {
   // minimal-area rectangle in UV.
   double max_area_fraction = 1.0;
   double min_fill = 0.0;
+  // Largest angle between a face normal of the union and the union's
+  // area-weighted mean normal (degrees); 0 = no limit.
+  double max_normal_deviation_deg = 0;
   int rounds = 12;
   int threads = 1;
 };

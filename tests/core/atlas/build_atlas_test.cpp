@@ -2,6 +2,8 @@
 // and utilisation targets of issue 5, checked independently of the library.
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <fstream>
@@ -119,6 +121,44 @@ TEST(BuildAtlas, PackingKeepsMergedCharts) {
   EXPECT_EQ(m.stats.packing_splits, 0);
   EXPECT_LT(m.stats.charts, p.stats.charts);
   EXPECT_LT(m.stats.seam_length, p.stats.seam_length);
+}
+
+// The widest turn of a face normal from its chart's area-weighted mean
+// normal, over all charts (degrees).
+double widest_chart_cone(const TriMesh& mesh, const Atlas& atlas) {
+  std::vector<Vec3> mean(atlas.chart_count, Vec3{0, 0, 0});
+  std::vector<Vec3> normal(mesh.faces.size());
+  for (size_t f = 0; f < mesh.faces.size(); ++f) {
+    const auto& t = mesh.faces[f];
+    const Vec3 n = cross(mesh.vertices[t[1]] - mesh.vertices[t[0]], mesh.vertices[t[2]] - mesh.vertices[t[0]]);
+    mean[atlas.face_chart[f]] += n;  // |n| = twice the area: area-weighted
+    normal[f] = normalized(n);
+  }
+  double widest = 0;
+  for (size_t f = 0; f < mesh.faces.size(); ++f) {
+    const double c = std::clamp(dot(normal[f], normalized(mean[atlas.face_chart[f]])), -1.0, 1.0);
+    widest = std::max(widest, std::acos(c) * 180 / M_PI);
+  }
+  return widest;
+}
+
+// Unlimited merging turns a sphere into a few charts that wrap far around
+// it; the normal-cone limit keeps every merged chart within its cone (the
+// segmentation's own charts stay within 1.5 x its 40 deg budget).
+TEST(BuildAtlas, MergeConeLimitsChartsWrappingAround) {
+  TriMesh sphere = shapes::sphere_with(1.0, 2000);
+  AtlasOptions o;
+  o.max_normal_deviation_deg = 40;
+  o.merge_charts = true;
+  o.merge_max_area_fraction = 1;
+  o.merge_min_fill = 0;
+  AtlasResult wide = build_atlas(sphere, o, Progress::none());
+  o.merge_max_normal_deviation_deg = 60;
+  AtlasResult coned = check_atlas("sphere merged within 60 deg", sphere, o, 0.4);
+  EXPECT_GT(widest_chart_cone(sphere, wide.atlas), 60.0);
+  EXPECT_GT(coned.stats.chart_merges, 0);
+  EXPECT_LE(widest_chart_cone(sphere, coned.atlas), 60.0 + 1e-9);
+  EXPECT_GT(coned.stats.charts, wide.stats.charts);
 }
 
 TEST(BuildAtlas, SmallTextureKeepsPadding) {

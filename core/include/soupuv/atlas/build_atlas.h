@@ -67,6 +67,12 @@ struct AtlasOptions {
   // UV (big or ragged charts pack badly).
   double merge_max_area_fraction = 0.1;
   double merge_min_fill = 0.5;
+  // A merge is also refused when a face of the union turns more than this
+  // from the union's mean normal (degrees; 0 = no limit): a chart that wraps
+  // around a thin part (a horn, an ear) leaves nothing for the pipeline's
+  // chart fix to pull together when a soup triangle's corners land on both
+  // sides of it.
+  double merge_max_normal_deviation_deg = 0;
   // Packing: while utilisation is below `packing_split_below`, the largest
   // charts are halved and everything is packed again, at most
   // `packing_split_rounds` times (few big charts fill a square badly).
