@@ -268,6 +268,15 @@ int run_charge(const bench::Args& args) {
                {"robin_hood_cap_factor", rh_cap_factor},
                {"ratios", ratios},
                {"cube_krylov_seconds", cube_krylov_seconds},
+               {"noisy_torus", [&] {
+                  nlohmann::json out = nlohmann::json::array();
+                  for (const auto& row : noisy)
+                    out.push_back({{"triangles", row["triangles"]}, {"seconds", row["seconds"]},
+                                   {"solve_seconds", row["solve_seconds"]}, {"cpu_seconds", row["cpu_seconds"]},
+                                   {"iterations", row["iterations"]},
+                                   {"max_rel_potential_error", row["max_rel_potential_error"]}});
+                  return out;
+                }()},
                {"note", "slopes and ratios from solve_seconds (verification excluded). Robin hood is capped at "
                         "max(--rh-seconds, rh_cap_factor x the same shape's Krylov solve seconds); a row that did "
                         "not reach max(Krylov error, tolerance) is a lower bound (ratio_lower_bound), and with "
