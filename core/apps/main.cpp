@@ -46,6 +46,8 @@ Usage:
       --chart-angle DEG      atlas: max normal deviation within a chart (70)
       --merge-charts         atlas: merge neighbouring charts across smooth
                              boundaries while they still flatten (shorter seams)
+      --merge-area F         ... a merged chart holds at most F of the surface (0.1)
+      --merge-fill F         ... and fills at least F of its minimal rectangle (0.5)
       --chart-stretch S      atlas: max L2 stretch of a chart before a split
       --pack-splits N        atlas: rounds of halving charts to pack tighter
       --weld-tolerance F     corners closer than F x diagonal are one vertex

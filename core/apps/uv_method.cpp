@@ -95,6 +95,14 @@ bool parse_method_flag(const std::vector<std::string>& args, size_t& i, MethodFl
       throw UsageError{"--chart-angle needs degrees in (0, 90]"};
   } else if (a == "--merge-charts") {
     o.atlas.merge_charts = true;
+  } else if (a == "--merge-area") {
+    o.atlas.merge_max_area_fraction = number(a, value());
+    if (!(o.atlas.merge_max_area_fraction > 0 && o.atlas.merge_max_area_fraction <= 1))
+      throw UsageError{"--merge-area needs a fraction in (0, 1]"};
+  } else if (a == "--merge-fill") {
+    o.atlas.merge_min_fill = number(a, value());
+    if (!(o.atlas.merge_min_fill >= 0 && o.atlas.merge_min_fill <= 1))
+      throw UsageError{"--merge-fill needs a fraction in [0, 1]"};
   } else if (a == "--chart-stretch") {
     o.atlas.max_stretch = number(a, value());
     if (!(o.atlas.max_stretch >= 1)) throw UsageError{"--chart-stretch needs a value >= 1"};

@@ -99,8 +99,16 @@ struct MapOptions {
   // suzanne 9.7 -> 4.5 %, 5.85 -> 4.49, 0.8648 -> 0.8634; teapot 2.09 ->
   // 1.50 %, 9.24 -> 3.07, 0.8950 -> 0.8949; fandisk 1.27 -> 0.91 %, 17.5 ->
   // 16.5, 0.9551 -> 0.9551; 100k torus (an earlier build) 0.34 -> 0.05 %,
-  // 13.2 -> 1.70, 0.9797 -> 0.9800. Rows of `soupuv-bench pipeline --only
-  // samples` carry before_repair; --no-uv-repair turns it off.
+  // 13.2 -> 1.70, 0.9797 -> 0.9800. Session 4 added the untangling start
+  // (patches at open chart borders and chart islands that no other start
+  // could begin); `soupuv-bench pipeline --only samples`, session 3's repair
+  // -> with untangling, flipped % and L2: suzanne 3.82 -> 1.24, 4.39 ->
+  // 3.58; spot 0.55 -> 0, 2.40 -> 1.15; teapot 1.46 -> 1.30, 3.05 -> 2.09;
+  // fandisk 0.90 -> 0.02, 16.1 -> 1.17; stanford-bunny 0.56 -> 0, 6.97 ->
+  // 1.26; Duck 1.02 -> 0.09, 43.9 -> 1.11; CesiumMan 0.32 -> 0, 45.7 ->
+  // 1.21; Fox 2.95 -> 0, 2.42 -> 1.14; bunny .drc 0.22 -> 0, 100 -> 1.21;
+  // continuity within -0.0006 everywhere. Rows of `soupuv-bench pipeline
+  // --only samples` carry before_repair; --no-uv-repair turns it off.
   bool uv_repair = true;
   transfer::UvRepairOptions repair;
   // Welding for the neighbour graph (orientation, continuity when no original

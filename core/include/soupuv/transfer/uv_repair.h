@@ -18,8 +18,13 @@
 // soup triangle on that chart using one of them, and all their other UV
 // vertices stay fixed (each fixed corner keeps its own UV). Start from a
 // flip-free placement: the free vertices at the mean of their copies, or if
-// that folds, a Tutte embedding (uniform weights) inside the fixed ones;
-// if both fold, grow the patch by one ring and try again (max_growth times).
+// that folds, a Tutte embedding (uniform weights) inside the fixed ones, or
+// an unfolding from the fixed corners inwards; if all fold (a fan open at a
+// chart border, a chart island with no fixed corner at all, a concave ring),
+// untangle from the copies' mean: descend on Garanzha et al.'s regularised
+// energy (untangle_energy.h), finite on folds, lowering its eps until every
+// triangle is positive. If nothing works, grow the patch by one ring and try
+// again (max_growth times).
 // Then minimise the symmetric Dirichlet energy of the patch's triangles
 // against their own 3D shape at the global scale (isometric = minimum; it is
 // infinite for a collapsed or flipped triangle, so a line search that keeps
