@@ -18,7 +18,8 @@
 //  - Local expansions are computed lazily, only for target cells a tracer
 //    visits (and their ancestors): the target tree over the whole stop region
 //    has many cells around the surface that no line ever enters, and M2L there
-//    was most of the cost of Fmm::set_charges.
+//    was most of the cost of Fmm::set_charges. A cell's M2Ls run in one
+//    batched call, four sources per SIMD pass (tracer_m2l.h).
 //  - The near field runs in single precision over one float block per source
 //    leaf (tracer_kernels.h: 8 triangles per SIMD group, coordinates relative
 //    to the leaf's centre): the kernel adds the quadrature points of every
@@ -27,8 +28,9 @@
 //    form (double) only within 1.75 radii; from there to the model's 2.5
 //    radii the degree-6 rule on the triangle's four midpoint children (float)
 //    is as accurate, see tracer_field.cpp; to 4 radii the degree-6 rule.
-//  - Points that share a target leaf are evaluated together, so a source
-//    leaf's data is loaded once for all of them.
+//  - Points that share a target leaf are evaluated together, source leaf by
+//    source leaf, so a leaf's float block is loaded into L1 once for all of
+//    them.
 // Same model as Fmm::evaluate, the slow twin: equal to float rounding except in the
 // split band, where the difference is below the model's quadrature error.
 #pragma once
