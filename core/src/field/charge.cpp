@@ -1,9 +1,13 @@
 // solve_charges: refine, dispatch to a solver, normalise the total charge to
 // 1 and verify the potential by a fresh evaluation.
+#include <algorithm>
+#include <array>
 #include <chrono>
 #include <cmath>
 #include <ctime>
+#include <map>
 #include <numeric>
+#include <tuple>
 
 #include "charge_solvers.h"
 #include "collocation.h"
@@ -34,8 +38,25 @@ ChargeResult solve_charges(const Soup& soup, const ChargeOptions& options_in, Pr
   r.quadrature_degree = options.quadrature_degree;
   r.fmm_order = options.fmm_order;
   r.fmm_theta = options.fmm_theta;
-  SourceGeometry src = make_sources(r.positions, r.triangles, options.quadrature_degree);
-  r.source_triangles = src.size();
+  // Exact duplicates (the same three corners, e.g. a doubled part) make two
+  // columns of A equal: the collocation system is singular and every solver
+  // failed ("zero total charge"). Charge one copy; the copies share its charge.
+  std::vector<uint32_t> copy_of(r.triangles.size());
+  std::vector<Tri> distinct;
+  {
+    std::map<std::array<double, 9>, uint32_t> seen;
+    for (size_t t = 0; t < r.triangles.size(); ++t) {
+      std::array<Vec3, 3> c = {r.positions[r.triangles[t][0]], r.positions[r.triangles[t][1]],
+                               r.positions[r.triangles[t][2]]};
+      std::sort(c.begin(), c.end(), [](Vec3 a, Vec3 b) { return std::tie(a.x, a.y, a.z) < std::tie(b.x, b.y, b.z); });
+      const std::array<double, 9> key = {c[0].x, c[0].y, c[0].z, c[1].x, c[1].y, c[1].z, c[2].x, c[2].y, c[2].z};
+      auto [it, fresh] = seen.emplace(key, static_cast<uint32_t>(distinct.size()));
+      if (fresh) distinct.push_back(r.triangles[t]);
+      copy_of[t] = it->second;
+    }
+  }
+  SourceGeometry src = make_sources(r.positions, distinct, options.quadrature_degree);
+  r.source_triangles = r.triangles.size();
   double total_area = 0;
   for (double a : src.area) total_area += a;
   if (!(total_area > 0)) throw Error(ErrorCode::no_triangles, "all triangles are degenerate");
@@ -46,6 +67,13 @@ ChargeResult solve_charges(const Soup& soup, const ChargeOptions& options_in, Pr
     case ChargeOptions::Solver::robin_hood: solve_robin_hood(src, options, progress, r, op); break;
     case ChargeOptions::Solver::dense_lu: solve_dense_lu(src, options, progress, r); break;
   }
+  if (distinct.size() < r.triangles.size()) {
+    std::vector<int> copies(distinct.size(), 0);
+    for (uint32_t d : copy_of) ++copies[d];
+    std::vector<double> all(r.triangles.size());
+    for (size_t t = 0; t < all.size(); ++t) all[t] = r.charges[copy_of[t]] / copies[copy_of[t]];
+    r.charges.swap(all);
+  }
   double total = std::accumulate(r.charges.begin(), r.charges.end(), 0.0);
   if (!(std::fabs(total) > 0)) throw Error(ErrorCode::internal, "charge solve produced zero total charge");
   for (double& q : r.charges) q /= total;
@@ -53,7 +81,10 @@ ChargeResult solve_charges(const Soup& soup, const ChargeOptions& options_in, Pr
   r.solve_cpu_seconds = static_cast<double>(std::clock() - c0) / CLOCKS_PER_SEC;
   progress.update("charge", 0.95);
   const int verify_order = options.verify_order > 0 ? options.verify_order : options.fmm_order + 2;
-  r.max_rel_potential_error = verify_potential(src, r.charges, options.verify_direct_max, verify_order,
+  // The verification charges the distinct triangles (each with its copies' sum).
+  std::vector<double> distinct_charges(distinct.size(), 0.0);
+  for (size_t t = 0; t < r.charges.size(); ++t) distinct_charges[copy_of[t]] += r.charges[t];
+  r.max_rel_potential_error = verify_potential(src, distinct_charges, options.verify_direct_max, verify_order,
                                                options.threads, op.get(), &r.verified_by, &r.mean_potential);
   op.reset();
   r.converged = r.max_rel_potential_error <= options.tolerance;

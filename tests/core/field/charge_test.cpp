@@ -164,3 +164,28 @@ TEST(Charge, FmmVerificationAgreesWithDirectSummation) {
     EXPECT_NEAR(r.max_rel_potential_error, direct, 0.05 * direct + 1e-7);
   }
 }
+
+TEST(Charge, ExactDuplicateTrianglesShareTheirCharge) {
+  // Every third triangle of a noisy soup doubled (same corners, one copy
+  // with its corners in another order): two equal columns make the
+  // collocation system singular, and the solve used to fail with "zero
+  // total charge". The copies now share one charge; by direct summation
+  // over ALL triangles the potential is still constant.
+  Soup soup = shapes::to_soup(shapes::torus_with(1.0, 0.5, 1800), 1e-3, 1);
+  const size_t n = soup.triangles.size();
+  for (size_t t = 0; t < n; t += 3) {
+    const Tri& tri = soup.triangles[t];
+    soup.triangles.push_back({tri[1], tri[2], tri[0]});
+    soup.origins.push_back(soup.origins[t]);
+  }
+  for (auto solver : {ChargeOptions::Solver::krylov, ChargeOptions::Solver::dense_lu}) {
+    ChargeOptions o;
+    o.solver = solver;
+    o.tolerance = 1e-6;
+    ChargeResult r = solve_charges(soup, o);
+    ASSERT_EQ(r.charges.size(), soup.triangles.size());
+    EXPECT_TRUE(r.converged);
+    EXPECT_LE(direct_deviation(r), 1e-6);
+    for (size_t t = 0, k = n; t < n; t += 3, ++k) EXPECT_DOUBLE_EQ(r.charges[t], r.charges[k]);
+  }
+}
