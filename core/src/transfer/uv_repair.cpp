@@ -262,6 +262,10 @@ class Patch {
       // Positive is not enough: a just-unfolded patch is a set of slivers the
       // barrier descent grows only slowly; go on while the energy still falls.
       if (worst > 0 && !(before - after > 1e-3 * before)) return true;
+      // A fold that survives a round at the smallest eps without the energy
+      // moving will not go (the fixed ring admits no injective placement):
+      // stop, so a hopeless patch costs a few rounds, not all of them.
+      if (worst <= 0 && eps <= 1e-9 && !(before - after > 1e-6 * before)) return false;
       // Garanzha et al.'s schedule: eps follows how far the fold still is.
       const double sigma = std::max(1 - after / before, 0.1);
       const double mu = (1 - sigma) * detail::chi(worst, eps);
