@@ -20,7 +20,8 @@
 // run; the machine may be shared), per-stage seconds, threads, peak_rss_mb,
 // and the uv metrics (coverage, flipped_fraction, stretch_l2, continuity,
 // continuity_1texel, islands; stretch_median and stretch_l2_worst1pct_share
-// are companions to read stretch_l2 by, not replacements).
+// are companions to read stretch_l2 by, not replacements; stretch_tail says
+// which classes of triangles carry the top half of the squared L2 sum).
 #include <sys/resource.h>
 
 #include <algorithm>
@@ -135,12 +136,19 @@ nlohmann::json row(const Input& in, const std::string& method, const Timed& run)
     r["corrected_triangles"] = d["transfer"]["corrected_triangles"];
     r["lines"] = d["trace"]["lines"];
     r["causes"] = d["uv"]["causes"];
+    // Who carries the L2 figure (quality/stretch_tail.h), without the list.
+    if (d["uv"].contains("stretch_tail")) {
+      const auto& tail = d["uv"]["stretch_tail"];
+      r["stretch_tail"] = {{"listed", tail["listed"]}, {"listed_share", tail["listed_share"]},
+                           {"by_class", tail["by_class"]}};
+    }
     r["charge_iterations"] = d["charge"].value("iterations", 0);
   }
   if (d.contains("uv_repair") && d["uv_repair"].value("enabled", false)) {
     r["repaired_vertices"] = d["uv_repair"]["repaired_vertices"];
     r["repaired_triangles"] = d["uv_repair"]["repaired_triangles"];
     r["before_repair"] = d["uv_repair"]["before"];
+    r["repair_failed_patches"] = d["uv_repair"]["failed_patches"];
   }
   return r;
 }
