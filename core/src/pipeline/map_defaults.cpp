@@ -9,25 +9,29 @@ atlas::AtlasOptions map_atlas_defaults() {
   atlas::AtlasOptions o;
   // 90 is refused by the atlas; 70 vs 40 measured in pipeline.h.
   o.max_normal_deviation_deg = 70;
-  // Chart merging stays off, although it now raises continuity on every
-  // sample. Session 3's `--merge-charts` lowered it only because the packing
-  // rounds halved the merged charts again (fixed in the atlas: no packing
-  // splits when merging). Measured with `soupuv-bench atlas-pipeline
-  // --variant pipeline --variant mmid:merge=1,merge_area=0.3,merge_fill=0.35`
-  // (loaded machine; continuity / flipped % / L2 stretch, this -> merged):
-  // suzanne 0.861/3.8/4.4 -> 0.909/5.6/4.6, spot 0.927/0.55/2.4 ->
-  // 0.960/0.61/5.3, teapot 0.905/1.5/3.1 -> 0.936/1.9/28, fandisk
-  // 0.958/0.90/16 -> 0.976/0.76/16, Duck 0.931/1.0/44 -> 0.965/1.3/10,
-  // CesiumMan 0.904/0.32/46 -> 0.952/0.98/12, Fox 0.793/3.0/2.4 ->
-  // 0.887/3.8/2.3; 4-6 charts instead of 15-34, utilisation 0.60-0.69. But
-  // flips rise on five of seven and the L2 tail jumps: the worst triangles
-  // become one-chart triangles whose corners landed far apart — with small
-  // charts they straddled a seam and §8's chart fix pulled them back. With
-  // these settings the pipeline ctest fails SharedSamples.Suzanne (flips
-  // 5.6 % > 5 %), .Spot (L2 5.3 > 3.3) and the Fig. 19 planes (refined
-  // stretch 6.7 > 3.0). Turn it on once transfer/repair handle those
-  // triangles: merge_charts = true, merge_max_area_fraction = 0.3,
-  // merge_min_fill = 0.35.
+  // Chart merging, without size or fill limits but within a 120 deg normal
+  // cone (no chart wraps around a thin part): seams are what cut the texture
+  // (every seam cuts ~ its length / soup edge length soup pairs), and merging
+  // halves their length. Session 3's `--merge-charts` lowered continuity only
+  // because the packing rounds halved the merged charts again (fixed in the
+  // atlas: no packing splits when merging). Measured with the untangling UV
+  // repair (88bb341), `soupuv-bench atlas-pipeline --variant pipeline
+  // --variant c120:merge=1,merge_area=1,merge_fill=0,merge_cone=120`, loaded
+  // machine; continuity / flipped % / L2 stretch, unmerged -> this:
+  // suzanne 0.861/1.14/3.57 -> 0.906/1.14/3.47, spot 0.926/0/1.15 ->
+  // 0.959/0/1.18, teapot 0.905/1.30/2.09 -> 0.935/1.30/1.61, fandisk
+  // 0.959/0/1.18 -> 0.979/0.01/1.18, Duck 0.931/0.09/1.11 -> 0.968/0.02/1.17,
+  // CesiumMan 0.904/0/1.21 -> 0.939/0/1.23, Fox 0.791/0/1.14 ->
+  // 0.845/0/1.26; 3-9 charts instead of 15-34; the cost is utilisation
+  // 0.64-0.67 instead of 0.72-0.75 (about 6 % fewer texels per length).
+  // Unlimited merging (no cone) cuts seams further (suzanne 0.935, spot
+  // 0.968, fandisk 0.986, Fox 0.903) but Fox's L2 goes 1.14 -> 1.53; the
+  // session-3 limits (10 % of the surface, fill 0.5) give less and raised
+  // the L2 tail with the older repair.
+  o.merge_charts = true;
+  o.merge_max_area_fraction = 1;
+  o.merge_min_fill = 0;
+  o.merge_max_normal_deviation_deg = 120;
   return o;
 }
 
@@ -38,7 +42,8 @@ proxy::ProxyOptions map_proxy_defaults() {
   // offset 0.05 continuity -0.009 .. +0.018 per sample, flips up on six of
   // seven; a finer remeshing edge (1.2 % of the diagonal instead of the
   // offset, ~6x the proxy triangles) continuity -0.003 .. -0.031, flips
-  // down on five of seven (fandisk 0.76 -> 0.06 %), L2 erratic.
+  // down on five of seven (fandisk 0.76 -> 0.06 %), L2 erratic (both with
+  // the older UV repair).
   o.ladder = {0.03, 0.05, 0.08, 0.12};
   return o;
 }
