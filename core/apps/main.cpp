@@ -44,10 +44,11 @@ Usage:
       --resolution N         proxy grid cells along the longest axis (0 = auto)
       --proxy-edge L         proxy remeshing target edge length (0 = the offset)
       --chart-angle DEG      atlas: max normal deviation within a chart (70)
-      --merge-charts         atlas: merge neighbouring charts across smooth
-                             boundaries while they still flatten (shorter seams)
-      --merge-area F         ... a merged chart holds at most F of the surface (0.1)
-      --merge-fill F         ... and fills at least F of its minimal rectangle (0.5)
+      --no-merge-charts      atlas: keep the segmented charts (merging neighbours
+                             across smooth boundaries, for shorter seams, is on)
+      --merge-charts         atlas: merge charts (the default; with the limits below)
+      --merge-area F         ... a merged chart holds at most F of the surface (1)
+      --merge-fill F         ... and fills at least F of its minimal rectangle (0)
       --chart-stretch S      atlas: max L2 stretch of a chart before a split
       --pack-splits N        atlas: rounds of halving charts to pack tighter
       --weld-tolerance F     corners closer than F x diagonal are one vertex

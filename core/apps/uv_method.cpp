@@ -95,6 +95,8 @@ bool parse_method_flag(const std::vector<std::string>& args, size_t& i, MethodFl
       throw UsageError{"--chart-angle needs degrees in (0, 90]"};
   } else if (a == "--merge-charts") {
     o.atlas.merge_charts = true;
+  } else if (a == "--no-merge-charts") {
+    o.atlas.merge_charts = false;
   } else if (a == "--merge-area") {
     o.atlas.merge_max_area_fraction = number(a, value());
     if (!(o.atlas.merge_max_area_fraction > 0 && o.atlas.merge_max_area_fraction <= 1))
