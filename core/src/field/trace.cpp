@@ -5,7 +5,7 @@
 // where |E| is larger and steps along E/|E| (eq. 10) by explicit Euler or the
 // midpoint method. The step shrinks near the surface to half the distance to
 // the nearest near-rule triangle (never below eps), so a line cannot jump
-// through a nearby face; lines stop outside the stop sphere, at the step
+// through a nearby face; lines stop outside the stop sphere (or stop_box), at the step
 // limit, where |E| vanishes, or when trapped: crawling along the surface at
 // the step floor for options.trapped_steps steps in a row.
 //
@@ -48,6 +48,12 @@ std::vector<TraceSeed> corner_seeds(const Soup& soup) {
 namespace {
 
 using Clock = std::chrono::steady_clock;
+
+// An empty box holds everything (no stop box).
+bool outside(const Box3& box, Vec3 p) {
+  if (box.empty()) return false;
+  return p.x < box.lo.x || p.y < box.lo.y || p.z < box.lo.z || p.x > box.hi.x || p.y > box.hi.y || p.z > box.hi.z;
+}
 
 // Sorts keys by their high 32 bits, stably (LSD radix sort, two 16-bit
 // digits): the keys are built in point order, so points of one leaf stay in
@@ -313,7 +319,7 @@ FieldLines trace_field_lines(const ChargeResult& charges, const std::vector<Trac
       pos[s] = pos[s] + (h[a] / norm(E[a])) * E[a];
       ++steps_total;
       if (options.keep_points) lines[s].push_back(pos[s]);
-      if (norm(pos[s] - center) > stop_radius) {
+      if (norm(pos[s] - center) > stop_radius || outside(options.stop_box, pos[s])) {
         ends[s] = LineEnd::escaped;
         continue;
       }

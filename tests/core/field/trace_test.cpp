@@ -2,6 +2,7 @@
 // outward from every vertex of two disjoint closed parts.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 
@@ -87,4 +88,29 @@ TEST(Trace, TwoClosedPartsTraceOutward) {
     if (dot(x1 - v, v - part_center) <= 0) ++inward;
   }
   EXPECT_EQ(inward, 0u);
+}
+
+TEST(Trace, StopBoxEndsLinesWhereTheyLeaveIt) {
+  Soup soup = shapes::to_soup(shapes::icosphere(1.0, 1));
+  ChargeResult c = charge(soup, 4);
+  TraceOptions o;
+  o.max_steps = 200;
+  o.step = 0.05;
+  o.stop_radius = 3.0;
+  o.stop_box.add({-1.3, -1.3, -1.3});
+  o.stop_box.add({1.3, 1.3, 1.3});
+  FieldLines lines = trace_field_lines(c, corner_seeds(soup), o);
+  auto outside = [](Vec3 p) { return std::max({std::fabs(p.x), std::fabs(p.y), std::fabs(p.z)}) > 1.3; };
+  for (size_t i = 0; i < lines.size(); ++i) {
+    ASSERT_EQ(lines.ends[i], LineEnd::escaped) << "line " << i;
+    const uint32_t e = lines.offsets[i + 1];
+    // Ends at its first point outside the box, well inside the stop sphere.
+    EXPECT_TRUE(outside(lines.points[e - 1])) << "line " << i;
+    EXPECT_FALSE(outside(lines.points[e - 2])) << "line " << i;
+    EXPECT_LT(norm(lines.points[e - 1]), 1.3 * std::sqrt(3.0) + o.step);
+  }
+  // An empty box changes nothing: lines run on to the stop sphere.
+  o.stop_box = Box3{};
+  FieldLines far = trace_field_lines(c, corner_seeds(soup), o);
+  for (size_t i = 0; i < far.size(); ++i) EXPECT_GT(norm(far.points[far.offsets[i + 1] - 1]), 3.0);
 }

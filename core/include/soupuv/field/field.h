@@ -154,6 +154,9 @@ struct TraceOptions {
   double step = 0;           // nominal step length; 0: 2% of the source bounding-box diagonal
   double start_offset = 0;   // epsilon; 0: 1e-3 * mean source edge length
   double stop_radius = 0;    // stop outside this sphere around the bbox centre; 0: 1.5 * half diagonal + 50 steps
+  // Not empty: a line also ends (LineEnd::escaped) once a step takes it
+  // outside this box (the pipeline's box beyond which no proxy can lie).
+  Box3 stop_box;
   int threads = 0;
   // The tracer's own FMM accuracy. Measured by the trace engineer on the
   // 12,800-triangle torus, 400 points 1e-4 .. 0.4 above the surface, field
