@@ -15,7 +15,8 @@
 // line end points move when the charge tolerance (1e-3 ... 1e-7) or the
 // tracer's FMM order is loosened, against a tight reference.
 //
-// Flags: --order P --theta T --leaf K (tracer FMM), --min-triangles N,
+// Flags: --order P --theta T --leaf K (tracer FMM), --near-step-fraction F
+// --max-turn T (the adaptive step, TraceOptions), --min-triangles N,
 // --max-triangles N, --direct-max N, --direct-budget PAIRS, --seeds corners,
 // --no-study, --study-only, --study-triangles N.
 #include <sys/resource.h>
@@ -238,6 +239,7 @@ void run_table5(const Flags& f, const bench::Args& args) {
                  {"field_magnitude_at_worst", err.field_at_worst},
                  {"error_samples", err.samples}, {"error_samples_near_fraction", err.near_fraction},
                  {"fmm_order", o.fmm_order}, {"fmm_theta", o.fmm_theta}, {"fmm_leaf_size", o.fmm_leaf_size},
+                 {"near_step_fraction", o.near_step_fraction}, {"max_turn_per_step", o.max_turn_per_step},
                  {"cpu_per_evaluation_us", 1e6 * cpu_fmm / double(st.evaluations)},
                  {"escaped", st.escaped}, {"step_limit", st.step_limit}, {"stalled", st.stalled},
                  {"trapped", st.trapped},
@@ -366,6 +368,8 @@ int run_trace(const bench::Args& args) {
     else if (a == "--order" && has) f.trace.fmm_order = std::stoi(args.rest[++i]);
     else if (a == "--theta" && has) f.trace.fmm_theta = std::stod(args.rest[++i]);
     else if (a == "--leaf" && has) f.trace.fmm_leaf_size = std::stoi(args.rest[++i]);
+    else if (a == "--near-step-fraction" && has) f.trace.near_step_fraction = std::stod(args.rest[++i]);
+    else if (a == "--max-turn" && has) f.trace.max_turn_per_step = std::stod(args.rest[++i]);
     else if (a == "--seeds" && has) f.corners = args.rest[++i] == "corners";
     else if (a == "--no-study") f.study = false;
     else if (a == "--study-only") f.table = false;

@@ -3,9 +3,10 @@
 // Inputs: a ChargeResult (charged source triangles) and seeds; output: one
 // polyline per seed (FieldLines). A line starts at v + eps * n on the side
 // where |E| is larger and steps along E/|E| (eq. 10) by explicit Euler or the
-// midpoint method. The step shrinks near the surface to half the distance to
-// the nearest near-rule triangle (never below eps), so a line cannot jump
-// through a nearby face; lines stop outside the stop sphere (or stop_box), at the step
+// midpoint method. The step shrinks near the surface to a fraction (0.5 ..
+// near_step_fraction < 1, larger where the line runs straight) of the
+// distance to the nearest near-rule triangle (never below eps), so a line
+// cannot jump through a nearby face; lines stop outside the stop sphere (or stop_box), at the step
 // limit, where |E| vanishes, or when trapped: crawling along the surface at
 // the step floor for options.trapped_steps steps in a row.
 //
@@ -264,10 +265,29 @@ FieldLines trace_field_lines(const ChargeResult& charges, const std::vector<Trac
     lines[s].push_back(pos[s]);
   }
   std::vector<double> nearest;
+  std::vector<Vec3> Efirst;
   // Trapped lines (options.trapped_steps): per line, how many steps in a row
   // it has been within 2 eps of the soup (where the step is the floor eps).
   const bool detect_trapped = options.adaptive_step && options.trapped_steps > 0;
   std::vector<int> crawl(n, 0);
+  // Per line, the direction of E at its last step's start and that step's
+  // length (0: no step yet): the line's curvature for the step rule.
+  std::vector<Vec3> last_dir(n, Vec3{0, 0, 0});
+  std::vector<double> last_h(n, 0.0);
+  const double max_fraction = options.near_step_fraction;
+  const double min_fraction = std::min(0.5, max_fraction);
+  // The near-surface step of line s at a point with field e and nearest
+  // near-rule triangle at distance d (see TraceOptions::near_step_fraction):
+  // turn per step ~ curvature * h, the curvature from the change of E's
+  // direction over the line's previous step.
+  auto near_step = [&](long s, Vec3 e, double d) {
+    // Within 2 eps the step stays at its floor: the trapped rule
+    // (TraceOptions::trapped_steps) counts crawling steps there.
+    if (!(last_h[s] > 0) || !(d < std::numeric_limits<double>::infinity()) || d < 2 * eps) return min_fraction * d;
+    const double curvature = norm(e / norm(e) - last_dir[s]) / last_h[s];
+    const double h = curvature > 0 ? options.max_turn_per_step / curvature : max_fraction * d;
+    return std::clamp(h, min_fraction * d, max_fraction * d);
+  };
   for (int k = 0; k < options.max_steps && !active.empty(); ++k) {
     progress.update("trace", 0.05 + 0.9 * k / double(options.max_steps));
     const size_t na = active.size();
@@ -287,7 +307,7 @@ FieldLines trace_field_lines(const ChargeResult& charges, const std::vector<Trac
         ends[active[a]] = LineEnd::stalled;
         continue;
       }
-      h[a] = options.adaptive_step ? std::min(step, std::max(eps, 0.5 * nearest[a])) : step;
+      h[a] = options.adaptive_step ? std::min(step, std::max(eps, near_step(active[a], E[a], nearest[a]))) : step;
       if (!detect_trapped) continue;
       const long s = active[a];
       crawl[s] = nearest[a] < 2 * eps ? crawl[s] + 1 : 0;
@@ -296,6 +316,7 @@ FieldLines trace_field_lines(const ChargeResult& charges, const std::vector<Trac
         h[a] = 0;
       }
     }
+    Efirst = E;
     if (midpoint) {
       for (size_t a = 0; a < na; ++a)
         if (h[a] > 0) X[a] = X[a] + (0.5 * h[a] / norm(E[a])) * E[a];
@@ -316,6 +337,8 @@ FieldLines trace_field_lines(const ChargeResult& charges, const std::vector<Trac
     for (size_t a = 0; a < na; ++a) {
       const long s = active[a];
       if (!(h[a] > 0)) continue;  // stalled or trapped
+      last_dir[s] = Efirst[a] / norm(Efirst[a]);
+      last_h[s] = h[a];
       pos[s] = pos[s] + (h[a] / norm(E[a])) * E[a];
       ++steps_total;
       if (options.keep_points) lines[s].push_back(pos[s]);

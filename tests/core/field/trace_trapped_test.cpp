@@ -6,9 +6,12 @@
 // not end any line that would have escaped.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cstdio>
+#include <limits>
 
 #include "soupuv/field/field.h"
+#include "soupuv/field/triangle_integrals.h"
 #include "soupuv/shapes.h"
 
 using namespace soupuv;
@@ -58,17 +61,38 @@ TEST(TraceTrapped, CrawlingLinesEndTrappedAndEscapingLinesStillEscape) {
   ASSERT_GT(e0.step_limit, seeds.size() / 5);
   EXPECT_EQ(e0.trapped, 0u);
   EXPECT_EQ(st1.trapped, e1.trapped);
-  // Every line that escaped without the rule escapes with it, on the same path.
+  // Every line that escaped without the rule escapes with it, on the same
+  // path, unless it really crawled: trapped_steps points in a row within
+  // 2 eps of the soup before it got away. (With the larger adaptive steps,
+  // TraceOptions::near_step_fraction, 3 of 1,536 lines here crawl 32-35
+  // steps, leave, come back to 0.1 eps of the surface and escape; with the
+  // half-distance rule they stayed until the step limit.)
+  double edges = 0;
+  for (size_t t = 0; t < soup.triangles.size(); ++t)
+    for (int k = 0; k < 3; ++k) edges += norm(soup.corner(t, k) - soup.corner(t, (k + 1) % 3));
+  const double eps = 1e-3 * edges / (3.0 * soup.triangles.size());
+  auto distance = [&](Vec3 p) {
+    double best = std::numeric_limits<double>::infinity();
+    for (size_t t = 0; t < soup.triangles.size(); ++t)
+      best = std::min(best, point_triangle_distance(soup.corner(t, 0), soup.corner(t, 1), soup.corner(t, 2), p));
+    return best;
+  };
   size_t lost = 0;
   for (size_t i = 0; i < with.size(); ++i) {
     if (without.ends[i] != LineEnd::escaped) continue;
     if (with.ends[i] != LineEnd::escaped) {
       ++lost;
+      int run = 0, longest = 0;
+      for (uint32_t k = without.offsets[i] + 1; k < without.offsets[i + 1]; ++k) {
+        run = distance(without.points[k]) < 2.05 * eps ? run + 1 : 0;
+        longest = std::max(longest, run);
+      }
+      EXPECT_GE(longest, o.trapped_steps) << "line " << i << " did not crawl but was ended as trapped";
     } else {
       EXPECT_EQ(with.offsets[i + 1] - with.offsets[i], without.offsets[i + 1] - without.offsets[i]);
     }
   }
-  EXPECT_EQ(lost, 0u);
+  EXPECT_LE(lost, e0.escaped / 100);
   // Most step-limit lines are recognised, after trapped_steps steps or more.
   EXPECT_LT(e1.step_limit, e0.step_limit / 10);
   EXPECT_GT(st0.steps, st1.steps);
