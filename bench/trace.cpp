@@ -22,6 +22,7 @@
 #include <sys/resource.h>
 
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <limits>
 #include <string>
@@ -141,13 +142,6 @@ SampledError sampled_field_error(const ChargeResult& c, const FieldLines& lines,
   return r;
 }
 
-double end_shift(const FieldLines& a, const FieldLines& b) {
-  double worst = 0;
-  for (size_t i = 0; i < a.size(); ++i)
-    worst = std::max(worst, norm(a.points[a.offsets[i + 1] - 1] - b.points[b.offsets[i + 1] - 1]));
-  return worst;
-}
-
 // End-point shifts between two tracings of the same seeds: max, p99, median.
 // The max alone says little: lines from the torus' inner equator run into
 // the field null at the hole's centre and leave up or down depending on the
@@ -155,19 +149,32 @@ double end_shift(const FieldLines& a, const FieldLines& b) {
 // accuracy.
 struct Shifts {
   double max = 0, p99 = 0, median = 0;
+  size_t worst = 0;        // line of the max
+  size_t over_1e2 = 0;     // lines that moved by more than 0.01
+  size_t lines = 0;        // lines compared
 };
-Shifts end_shifts(const FieldLines& a, const FieldLines& b) {
-  std::vector<double> d(a.size());
-  for (size_t i = 0; i < a.size(); ++i)
-    d[i] = norm(a.points[a.offsets[i + 1] - 1] - b.points[b.offsets[i + 1] - 1]);
+// Shift of point `step` of each line (the point after that many steps;
+// -1: the end point); lines shorter than that in either tracing are left out.
+Shifts point_shifts(const FieldLines& a, const FieldLines& b, int step = -1) {
+  std::vector<std::pair<double, size_t>> d;
+  for (size_t i = 0; i < a.size(); ++i) {
+    const uint32_t ka = step < 0 ? a.offsets[i + 1] - 1 : a.offsets[i] + 1 + step;
+    const uint32_t kb = step < 0 ? b.offsets[i + 1] - 1 : b.offsets[i] + 1 + step;
+    if (ka >= a.offsets[i + 1] || kb >= b.offsets[i + 1]) continue;
+    d.push_back({norm(a.points[ka] - b.points[kb]), i});
+  }
   std::sort(d.begin(), d.end());
   Shifts s;
+  s.lines = d.size();
   if (d.empty()) return s;
-  s.max = d.back();
-  s.p99 = d[std::min(d.size() - 1, d.size() * 99 / 100)];
-  s.median = d[d.size() / 2];
+  s.max = d.back().first;
+  s.worst = d.back().second;
+  s.p99 = d[std::min(d.size() - 1, d.size() * 99 / 100)].first;
+  s.median = d[d.size() / 2].first;
+  for (const auto& [v, i] : d) s.over_1e2 += v > 1e-2;
   return s;
 }
+Shifts end_shifts(const FieldLines& a, const FieldLines& b) { return point_shifts(a, b); }
 
 // The tracer's FMM for Table 5: p = 7, theta = 0.45, 32-triangle leaves. On
 // a 12,800-triangle torus (400 points 1e-4 .. 0.4 above the surface) p = 7,
@@ -270,14 +277,33 @@ void run_table5(const Flags& f, const bench::Args& args) {
     const double scale = double(seeds.size()) / sub.size();
     const double scaled = sd.seconds * scale, scaled_cpu = (cpu_seconds() - dcpu0) * scale;
     FieldLines fl = trace_field_lines(c, sub, o);  // the FMM's lines for the same seeds
+    // How far the FMM's lines end from the direct ones. The max is a few
+    // lines from the inner equator (the seed's distance from the axis says
+    // so): they run into the field null at the hole's centre, where the
+    // direction is decided by the last digits, and leave up or down. The
+    // median and the shift after the first steps measure the evaluators.
+    const Shifts end = end_shifts(fl, dl), at10 = point_shifts(fl, dl, 10), at25 = point_shifts(fl, dl, 25);
+    const Vec3 worst_seed = sub[end.worst].position, worst10_seed = sub[at10.worst].position;
     bench::emit({{"suite", "trace"}, {"shape", "torus"}, {"triangles", n}, {"method", "direct"},
                  {"integrator", "midpoint"}, {"steps", 50}, {"lines", seeds.size()},
                  {"direct_lines_measured", sub.size()}, {"seconds", scaled}, {"seconds_measured", sd.seconds},
                  {"cpu_seconds", scaled_cpu},
                  {"threads", bench::threads()}, {"field_rel_error", 0.0},
-                 {"end_point_shift_vs_fmm", end_shift(fl, dl)}});
-    std::fprintf(stderr, "trace direct n=%d: %.2fs for %zu lines, %.2fs scaled to %zu\n", n, sd.seconds,
-                 sub.size(), scaled, seeds.size());
+                 {"end_point_shift_vs_fmm", end.max}, {"end_point_shift_p99", end.p99},
+                 {"end_point_shift_median", end.median}, {"lines_shifted_over_0.01", end.over_1e2},
+                 {"worst_shift_seed_axis_distance", std::hypot(worst_seed.x, worst_seed.y)},
+                 {"worst_shift_seed_z", worst_seed.z},
+                 {"shift_after_10_steps", {{"max", at10.max}, {"p99", at10.p99}, {"median", at10.median},
+                                           {"worst_seed_axis_distance", std::hypot(worst10_seed.x, worst10_seed.y)},
+                                           {"worst_seed_z", worst10_seed.z}}},
+                 {"shift_after_25_steps", {{"max", at25.max}, {"p99", at25.p99}, {"median", at25.median}}}});
+    std::fprintf(stderr,
+                 "trace direct n=%d: %.2fs for %zu lines, %.2fs scaled to %zu; end shift vs fmm max %.2e (%zu lines "
+                 "> 0.01, worst seed %.3f from the axis) p99 %.2e median %.2e; after 10 steps max %.2e (seed %.3f from "
+                 "the axis, z %.3f), 25 steps max %.2e\n",
+                 n, sd.seconds, sub.size(), scaled, seeds.size(), end.max, end.over_1e2,
+                 std::hypot(worst_seed.x, worst_seed.y), end.p99, end.median, at10.max,
+                 std::hypot(worst10_seed.x, worst10_seed.y), worst10_seed.z, at25.max);
     dx.push_back(n);
     dy.push_back(scaled);
     dc.push_back(scaled_cpu);

@@ -281,12 +281,16 @@ FieldLines trace_field_lines(const ChargeResult& charges, const std::vector<Trac
   // turn per step ~ curvature * h, the curvature from the change of E's
   // direction over the line's previous step.
   auto near_step = [&](long s, Vec3 e, double d) {
-    // Within 2 eps the step stays at its floor: the trapped rule
-    // (TraceOptions::trapped_steps) counts crawling steps there.
-    if (!(last_h[s] > 0) || !(d < std::numeric_limits<double>::infinity()) || d < 2 * eps) return min_fraction * d;
+    if (!(last_h[s] > 0) || !(d < std::numeric_limits<double>::infinity())) return min_fraction * d;
+    // Within 2 eps the step stays at its floor (the trapped rule,
+    // TraceOptions::trapped_steps, counts crawling steps there); the larger
+    // fraction ramps in up to 4 eps: a step rule that jumps would let the
+    // last digits of E pick between two step lengths.
+    const double ramp = std::clamp((d - 2 * eps) / (2 * eps), 0.0, 1.0);
+    const double upper = min_fraction + ramp * (max_fraction - min_fraction);
     const double curvature = norm(e / norm(e) - last_dir[s]) / last_h[s];
-    const double h = curvature > 0 ? options.max_turn_per_step / curvature : max_fraction * d;
-    return std::clamp(h, min_fraction * d, max_fraction * d);
+    const double h = curvature > 0 ? options.max_turn_per_step / curvature : upper * d;
+    return std::clamp(h, min_fraction * d, upper * d);
   };
   for (int k = 0; k < options.max_steps && !active.empty(); ++k) {
     progress.update("trace", 0.05 + 0.9 * k / double(options.max_steps));
