@@ -57,7 +57,9 @@ int run_atlas(const bench::Args& args) {
   // sets the segmentation budget (AtlasOptions::max_normal_deviation_deg; the
   // pipeline uses 70), --padding=PX the padding in texels, --merge turns
   // chart merging on (AtlasOptions::merge_charts), --merge-area=F and
-  // --merge-fill=F set its limits (merge_max_area_fraction, merge_min_fill).
+  // --merge-fill=F set its limits (merge_max_area_fraction, merge_min_fill),
+  // --merge-cone=DEG the merge normal cone, --relax turns seam relaxation on
+  // (AtlasOptions::relax_seams; rows then carry seam_cost_before_relax).
   atlas::AtlasOptions options;
   for (const std::string& a : args.rest) {
     if (a.rfind("--normal-deviation=", 0) == 0) options.max_normal_deviation_deg = std::stod(a.substr(19));
@@ -65,6 +67,8 @@ int run_atlas(const bench::Args& args) {
     if (a == "--merge") options.merge_charts = true;
     if (a.rfind("--merge-area=", 0) == 0) options.merge_max_area_fraction = std::stod(a.substr(13));
     if (a.rfind("--merge-fill=", 0) == 0) options.merge_min_fill = std::stod(a.substr(13));
+    if (a.rfind("--merge-cone=", 0) == 0) options.merge_max_normal_deviation_deg = std::stod(a.substr(13));
+    if (a == "--relax") options.relax_seams = true;
     if (a.rfind("--only=", 0) == 0) {
       std::string text = a.substr(7);
       std::erase_if(cases, [&](const Case& c) { return c.name.find(text) == std::string::npos; });

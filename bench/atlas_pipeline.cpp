@@ -13,7 +13,9 @@
 //                        (max_stretch), merge (0/1), merge_crease,
 //                        merge_area, merge_fill, merge_cone
 //                        (merge_max_normal_deviation_deg), pack_splits,
-//                        split_below,
+//                        split_below, relax (0/1: seam relaxation),
+//                        relax_band, soup_weights (0/1: seam weights from
+//                        the soup's edge density, with relax),
 //                        offset (proxy offset, fraction of the diagonal;
 //                        default: auto), proxy_edge (proxy remeshing edge
 //                        length, fraction of the diagonal; default: the
@@ -83,6 +85,9 @@ Variant parse_variant(const std::string& text) {
     else if (key == "merge_cone") a.merge_max_normal_deviation_deg = value;
     else if (key == "pack_splits") a.packing_split_rounds = int(value);
     else if (key == "split_below") a.packing_split_below = value;
+    else if (key == "relax") a.relax_seams = value != 0;
+    else if (key == "relax_band") a.relax_band = value;
+    else if (key == "soup_weights") a.soup_seam_weights = value != 0;
     else if (key == "offset") v.offset = value;
     else if (key == "proxy_edge") v.proxy_edge = value;
     else throw Error(ErrorCode::invalid_input, "unknown variant key: " + key);
@@ -168,6 +173,9 @@ int run_atlas_pipeline(const bench::Args& args) {
                             {"charts", a["charts"]},
                             {"utilization", a["utilization"]},
                             {"seam_length_relative", a["seam_length_relative"]},
+                            {"seam_cost_before_relax", a["seam_cost_before_relax"]},
+                            {"seam_cost", a["seam_cost"]},
+                            {"relaxed_pairs", a["relaxed_pairs"]},
                             {"atlas_seconds", a["seconds"]},
                             {"seconds", seconds},
                             {"cpu_seconds", cpu_seconds() - c0},

@@ -17,6 +17,7 @@
 #include "atlas/pack.h"
 #include "atlas/parameterize.h"
 #include "atlas/raster_pack.h"
+#include "atlas/relax_seams.h"
 #include "atlas/seams.h"
 #include "atlas/segment.h"
 #include "atlas/split.h"
@@ -47,6 +48,10 @@ nlohmann::json AtlasResult::diagnostics() const {
           {"seam_edges", s.seam_edges},
           {"seam_length", s.seam_length},
           {"seam_length_relative", s.seam_length_relative},
+          {"seam_cost_before_relax", s.seam_cost_before_relax},
+          {"seam_cost", s.seam_cost},
+          {"relaxed_pairs", s.relaxed_pairs},
+          {"relaxed_faces", s.relaxed_faces},
           {"texture_size", atlas.texture_size},
           {"padding_px", atlas.padding_px},
           {"uv_per_length", atlas.uv_per_length},
@@ -74,6 +79,15 @@ AtlasResult build_atlas(const TriMesh& mesh, const AtlasOptions& options, Progre
     throw Error(ErrorCode::invalid_input, "atlas: merge_max_normal_deviation_deg must be in [0, 180]");
   if (!(options.max_stretch >= 1))
     throw Error(ErrorCode::invalid_input, "atlas: max_stretch must be at least 1");
+  if (!options.seam_weight.empty()) {
+    if (options.seam_weight.size() != mesh.faces.size())
+      throw Error(ErrorCode::invalid_input, "atlas: seam_weight needs one weight per face");
+    for (double w : options.seam_weight)
+      if (!(w > 0 && std::isfinite(w)))
+        throw Error(ErrorCode::invalid_input, "atlas: seam weights must be positive and finite");
+  }
+  if (!(options.relax_band > 0))
+    throw Error(ErrorCode::invalid_input, "atlas: relax_band must be positive");
   const int threads = options.threads > 0 ? options.threads : omp_get_max_threads();
 
   AtlasResult result;
@@ -157,6 +171,18 @@ AtlasResult build_atlas(const TriMesh& mesh, const AtlasOptions& options, Progre
     merge.threads = threads;
     stats.chart_merges = merge_charts(mesh, topology, seam, done, face_chart, face_local, merge);
     stats.seconds_merge = since(tm);
+  }
+  stats.seam_cost_before_relax = weighted_seam_length(topology, face_chart, options.seam_weight);
+  if (options.relax_seams) {
+    progress.update("atlas.relax", 0);
+    RelaxOptions relax;
+    relax.max_stretch = options.max_stretch;
+    relax.arap_iterations = options.arap_iterations;
+    relax.band_fraction = options.relax_band;
+    relax.threads = threads;
+    RelaxStats r = relax_seams(mesh, topology, seam, done, face_chart, face_local, options.seam_weight, relax);
+    stats.relaxed_pairs = r.pairs_relaxed;
+    stats.relaxed_faces = r.faces_moved;
   }
 
   // Packing rounds: while utilisation stays below the target, the largest
@@ -245,6 +271,7 @@ AtlasResult build_atlas(const TriMesh& mesh, const AtlasOptions& options, Progre
       if (f < g && atlas.face_chart[f] != atlas.face_chart[g])
         stats.seam_length += topology.edge_length[topology.face_edge[f][k]];
     }
+  stats.seam_cost = weighted_seam_length(topology, atlas.face_chart, options.seam_weight);
   stats.seam_length_relative = surface > 0 ? stats.seam_length / std::sqrt(surface) : 0;
   AtlasMetrics m = measure_atlas(mesh, atlas);
   stats.charts = atlas.chart_count;

@@ -7,6 +7,7 @@
 #include <thread>
 
 #include "pipeline/field_branch.h"
+#include "pipeline/seam_weights.h"
 #include "soupuv/baseline/box_projection.h"
 #include "soupuv/cache/store.h"
 #include "soupuv/errors.h"
@@ -46,6 +47,9 @@ ProxyBranch run_proxy_branch(const Soup& soup, const MapOptions& options, int th
   atlas::AtlasOptions ao = options.atlas;
   ao.threads = threads;
   auto t1 = Clock::now();
+  // Seams placed by cost: a seam through fine soup cuts more pairs.
+  if (ao.relax_seams && ao.soup_seam_weights && ao.seam_weight.empty())
+    ao.seam_weight = soup_seam_weights(soup, b.proxy.proxy.mesh, threads);
   b.atlas = atlas::build_atlas(b.proxy.proxy.mesh, ao, progress);
   b.seconds_atlas = since(t1);
   return b;

@@ -14,7 +14,9 @@
 // LSCM then ARAP local/global per chart; a chart that flips, overlaps itself or
 // exceeds the stretch budget is split in two and redone; optionally
 // (merge_charts) neighbouring charts are merged again where the union still
-// flattens within the budget (shorter seams); charts are scaled to
+// flattens within the budget (shorter seams); optionally (relax_seams) each
+// boundary between two charts moves to its cheapest cut in a band around it
+// (minimum cut, seams weighted per face); charts are scaled to
 // one texel density, rotated to their minimal-area rectangle and packed into
 // [0,1]^2 with padding by a bitmap packer (conservative rasters in 16 turns,
 // lowest fit) and, for few charts, also a column (horizon) packer; the
@@ -73,6 +75,21 @@ struct AtlasOptions {
   // chart fix to pull together when a soup triangle's corners land on both
   // sides of it.
   double merge_max_normal_deviation_deg = 0;
+  // Seam relaxation after flattening and merging: the boundary between two
+  // neighbouring charts moves to the cheapest cut inside a band of
+  // relax_band * sqrt(smaller chart's area) around it, where an edge costs
+  // its length times the mean seam_weight of its two faces; kept only where
+  // both charts still flatten within the budget (see relax_seams.h).
+  bool relax_seams = false;
+  double relax_band = 0.35;
+  // Per-face seam weight (one per mesh face, > 0; empty = 1 everywhere): how
+  // dear a seam through that face is. The pipeline weighs proxy faces by the
+  // soup edges a seam there would cut.
+  std::vector<double> seam_weight;
+  // Read by the pipeline, not the atlas: with relax_seams on and no
+  // seam_weight given, weigh the proxy faces by the soup's edge density
+  // (pipeline/seam_weights.h); off, the relaxation only shortens seams.
+  bool soup_seam_weights = true;
   // Packing: while utilisation is below `packing_split_below`, the largest
   // charts are halved and everything is packed again, at most
   // `packing_split_rounds` times (few big charts fill a square badly).
@@ -102,6 +119,10 @@ struct AtlasDiagnostics {
   int seam_edges = 0;        // mesh edges forced to be seams by the hints
   double seam_length = 0;    // total 3D length of mesh edges between two charts
   double seam_length_relative = 0;  // seam_length / sqrt(surface area): scale-free
+  // Seam length weighted by seam_weight (equal to seam_length without
+  // weights), before and after the relaxation, and what the relaxation did.
+  double seam_cost_before_relax = 0, seam_cost = 0;
+  int relaxed_pairs = 0, relaxed_faces = 0;
   double seconds = 0;         // wall clock
   double cpu_seconds = 0;     // process CPU time (all threads) during the build
   int pack_attempts = 0;      // packings tried by the scale searches
