@@ -73,6 +73,12 @@ Usage:
       --repair-stretch F     repair triangles stretched beyond F x the median (2)
       --repair-growth N      rings a repair patch may grow by to find a start (3)
       --no-untangle          repair without the untangling start (Garanzha et al.)
+      --no-island-start      repair chart islands (no fixed corner) like other
+                             patches, not from one triangle laid down isometrically
+      --no-repair-split      leave triangles whose corners landed on two charts
+                             to the repair's usual rules
+      --weld-corners         §8 neighbours and the repair weld corners by position
+                             (--weld-tolerance) instead of matching edges
       --no-refine-intersections  --no-orient  --no-share-lines  --no-chart-fix
       --no-chart-neighbours
 

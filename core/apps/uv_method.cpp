@@ -156,6 +156,12 @@ bool parse_method_flag(const std::vector<std::string>& args, size_t& i, MethodFl
     o.repair.max_growth = integer(a, value(), 0, 20);
   } else if (a == "--no-untangle") {
     o.repair.untangle = false;
+  } else if (a == "--no-island-start") {
+    o.repair.island_start = false;
+  } else if (a == "--no-repair-split") {
+    o.repair_split_triangles = false;
+  } else if (a == "--weld-corners") {
+    o.weld_by_edges = false;
   } else if (a == "--repair-stretch") {
     o.repair.stretch_threshold = number(a, value());
     if (!(o.repair.stretch_threshold > 1)) throw UsageError{"--repair-stretch needs a factor > 1"};

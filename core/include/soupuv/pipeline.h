@@ -113,6 +113,10 @@ struct MapOptions {
   // --only samples` carry before_repair; --no-uv-repair turns it off.
   bool uv_repair = true;
   transfer::UvRepairOptions repair;
+  // The repair also takes triangles whose corners landed on two charts (§8
+  // could not join them) and moves the odd corner onto the triangle's chart
+  // (the one two corners share) — UvRepairOptions::corner_chart.
+  bool repair_split_triangles = true;
   // Welding for the neighbour graph (orientation, continuity when no original
   // is given): corners closer than weld_tolerance * bounding-box diagonal, and
   // closer than weld_edge_fraction * their triangles' shortest edge (never two
@@ -121,6 +125,18 @@ struct MapOptions {
   // 1.0 finds them (1 component, 2,938 lines, continuity 0.919 -> 0.925).
   double weld_tolerance = 2e-3;
   double weld_edge_fraction = 1.0;
+  // The §8 neighbours and the UV repair weld by matching edges instead
+  // (quality::weld_by_edges), within edge_weld_tolerance * diagonal (the
+  // shared soups' copies lie up to 3e-3 apart). Welding corners joined
+  // distinct vertices where the noise reaches the edge length (teapot rim:
+  // 409 corners) and the repair could not start there; measured with
+  // --original (loaded machine), weld_corners -> weld_by_edges, continuity /
+  // flipped % / L2: teapot 0.935 / 1.31 / 1.61 -> 0.938 / 0.97 / 1.35,
+  // suzanne 0.906 / 1.14 / 3.47 -> 0.902 / 0 / 2.32, spot 0.959 / 0 / 1.18
+  // -> 0.958 / 0 / 1.18, fandisk 0.979 / 0.02 / 1.36 -> 0.979 / 0.05 /
+  // 1.36 (-> 0 / 1.17 with the repair's island start, uv_repair.h).
+  bool weld_by_edges = true;
+  double edge_weld_tolerance = 4e-3;
 
   int threads = 0;             // total budget; 0 = OpenMP default
   cache::Store* cache = nullptr;  // shared, thread-safe; nullptr = no cache

@@ -249,7 +249,9 @@ MapResult run_map(const Soup& soup, const MapOptions& options, Progress& progres
   std::vector<quality::AdjacentPair> neighbours;
   quality::Weld weld;
   if (options.chart_fix_neighbours || options.uv_repair)
-    weld = quality::weld_corners(soup, options.weld_tolerance * diag, options.weld_edge_fraction);
+    weld = options.weld_by_edges
+               ? quality::weld_by_edges(soup, options.edge_weld_tolerance * diag)
+               : quality::weld_corners(soup, options.weld_tolerance * diag, options.weld_edge_fraction);
   if (options.chart_fix_neighbours) {
     neighbours = quality::edge_adjacency(weld, soup.triangles.size());
     to.neighbours = &neighbours;
@@ -286,10 +288,19 @@ MapResult run_map(const Soup& soup, const MapOptions& options, Progress& progres
     double before_seconds = 0;
     const quality::UvMetrics before = measure(soup, tr.corner_uvs, adjacency, options,
                                               pb.atlas.atlas.uv_per_length, before_seconds);
-    std::vector<int> chart(soup.triangles.size());
-    for (size_t t = 0; t < chart.size(); ++t) chart[t] = pb.atlas.atlas.face_chart[tr.landing[3 * t].face];
+    // A triangle's chart: the one two of its corners landed on (else corner
+    // 0's); the repair moves a corner on another chart onto it.
+    std::vector<int> corner_chart(tr.landing.size()), chart(soup.triangles.size());
+    for (size_t c = 0; c < corner_chart.size(); ++c)
+      corner_chart[c] = pb.atlas.atlas.face_chart[tr.landing[c].face];
+    for (size_t t = 0; t < chart.size(); ++t) {
+      const int* k = &corner_chart[3 * t];
+      chart[t] = k[1] == k[2] ? k[1] : k[0];
+    }
+    transfer::UvRepairOptions ro = options.repair;
+    if (options.repair_split_triangles) ro.corner_chart = &corner_chart;
     transfer::UvRepairResult rep = transfer::repair_uvs(
-        soup, weld, chart, pb.atlas.atlas.uv_per_length, tr.corner_uvs, options.repair, progress);
+        soup, weld, chart, pb.atlas.atlas.uv_per_length, tr.corner_uvs, ro, progress);
     seconds_repair = rep.seconds;
     repair_json.update(rep.diagnostics());
     repair_json["before"] = {{"flipped_fraction", before.flipped_fraction},

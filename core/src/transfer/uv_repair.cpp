@@ -113,8 +113,9 @@ std::vector<uint8_t> find_bad(const std::vector<RestTriangle>& rest,
 class Patch {
  public:
   Patch(const std::vector<uint32_t>& free_vertices, const UvVertices& verts,
-        const std::vector<RestTriangle>& rest, const std::vector<std::array<Vec2, 3>>& uvs)
-      : free_(free_vertices), rest_(rest), uvs_(uvs) {
+        const std::vector<RestTriangle>& rest, const std::vector<std::array<Vec2, 3>>& uvs,
+        const std::vector<uint8_t>& foreign)
+      : free_(free_vertices), rest_(rest), uvs_(uvs), foreign_(foreign) {
     std::unordered_map<uint32_t, uint32_t> local;
     for (size_t i = 0; i < free_.size(); ++i) local[free_[i]] = uint32_t(i);
     std::vector<uint32_t> tris;
@@ -177,12 +178,19 @@ class Patch {
     return e;
   }
 
-  // Start 1: each free vertex at the mean of its copies' UVs.
+  // Start 1: each free vertex at the mean of its copies' UVs, leaving out
+  // copies that landed on another chart than their triangle's (they lie
+  // far away on that chart) unless every copy did.
   void start_at_copies() {
     for (size_t i = 0; i < free_.size(); ++i) {
-      Vec2 sum{0, 0};
-      for (auto [tri, k] : around_[i]) sum = sum + uvs_[triangles_[tri]][k];
-      uv_[i] = (1.0 / double(around_[i].size())) * sum;
+      Vec2 sum{0, 0}, all{0, 0};
+      double count = 0;
+      for (auto [tri, k] : around_[i]) {
+        const Vec2 p = uvs_[triangles_[tri]][k];
+        all = all + p;
+        if (foreign_.empty() || !foreign_[3 * triangles_[tri] + k]) { sum = sum + p; count += 1; }
+      }
+      uv_[i] = count > 0 ? (1.0 / count) * sum : (1.0 / double(around_[i].size())) * all;
     }
   }
 
@@ -215,6 +223,46 @@ class Patch {
   // edge onto its two placed corners puts it (the mean over such triangles).
   void start_unfolding() {
     std::vector<uint8_t> placed(free_.size(), 0);
+    unfold_from(placed);
+  }
+
+  bool has_fixed_corner() const {
+    for (const auto& s : slot_)
+      for (uint32_t k : s)
+        if (k == kFixed) return true;
+    return false;
+  }
+
+  // Start 0, for a chart island (no fixed corner: nothing anchors the
+  // patch, e.g. triangles whose corners landed on two charts, or a part
+  // the weld cut off): lay the first valid triangle down isometrically at
+  // its own corner 0's UV (a point on this chart), then unfold the rest
+  // from it. Descending from the copies' UVs instead had to shrink
+  // triangles spanning two charts by 100x, which 100 sweeps do not do.
+  void start_island() {
+    start_at_copies();
+    std::vector<uint8_t> placed(free_.size(), 0);
+    for (size_t i = 0; i < triangles_.size(); ++i) {
+      const RestTriangle& r = rest_[triangles_[i]];
+      if (!r.valid) continue;
+      const Vec2 anchor = uvs_[triangles_[i]][0];
+      // Keep the triangle inside [0,1]^2 when the anchor sits at an edge.
+      Vec2 lo{0, 0}, hi{0, 0};
+      for (int k = 0; k < 3; ++k) {
+        lo = {std::min(lo.x, r.x[k].x), std::min(lo.y, r.x[k].y)};
+        hi = {std::max(hi.x, r.x[k].x), std::max(hi.y, r.x[k].y)};
+      }
+      const Vec2 at{std::clamp(anchor.x, -lo.x, 1 - hi.x), std::clamp(anchor.y, -lo.y, 1 - hi.y)};
+      for (int k = 0; k < 3; ++k) {
+        uv_[slot_[i][k]] = at + r.x[k];
+        placed[slot_[i][k]] = 1;
+      }
+      break;
+    }
+    unfold_from(placed);
+  }
+
+  void unfold_from(std::vector<uint8_t>& placed) {
     auto known = [&](size_t tri, int k) { return slot_[tri][k] == kFixed || placed[slot_[tri][k]]; };
     for (size_t round = 0; round < free_.size(); ++round) {
       bool progress = false;
@@ -405,6 +453,7 @@ class Patch {
   std::vector<uint32_t> free_;
   const std::vector<RestTriangle>& rest_;
   const std::vector<std::array<Vec2, 3>>& uvs_;
+  const std::vector<uint8_t>& foreign_;  // per corner; may be empty
   std::vector<uint32_t> triangles_;
   std::vector<std::array<uint32_t, 3>> slot_;
   std::vector<std::vector<Use>> around_;
@@ -435,7 +484,19 @@ UvRepairResult repair_uvs(const Soup& soup, const quality::Weld& weld,
     rest[t] = detail::rest_triangle(soup.corner(t, 0), soup.corner(t, 1), soup.corner(t, 2),
                                     uv_per_length, orientation);
 
-  const std::vector<uint8_t> bad = find_bad(rest, uvs, options);
+  // Corners that landed on another chart than their triangle's: their own
+  // UV lies on that chart, far from the triangle's other corners. Their
+  // triangles are bad, so these corners are free and follow their copies on
+  // the triangle's chart instead.
+  std::vector<uint8_t> foreign;
+  if (options.corner_chart) {
+    if (options.corner_chart->size() != 3 * n)
+      throw Error(ErrorCode::internal, "uv repair: corner_chart needs one chart per corner");
+    foreign.assign(3 * n, 0);
+    for (size_t c = 0; c < 3 * n; ++c) foreign[c] = (*options.corner_chart)[c] != triangle_chart[c / 3];
+  }
+  std::vector<uint8_t> bad = find_bad(rest, uvs, options);
+  for (size_t c = 0; c < foreign.size(); ++c) bad[c / 3] |= foreign[c] && rest[c / 3].valid;
   r.bad_triangles = size_t(std::count(bad.begin(), bad.end(), 1));
   const UvVertices verts = uv_vertices(weld, triangle_chart);
 
@@ -479,9 +540,14 @@ UvRepairResult repair_uvs(const Soup& soup, const quality::Weld& weld,
     enum { too_large, no_start, no_gain, sliver } why = no_start;
     for (int ring = 0; ring <= options.max_growth && !done; ++ring) {
       if (free_vertices.size() > options.max_patch_vertices) { why = too_large; break; }
-      Patch patch(free_vertices, verts, rest, uvs);
+      Patch patch(free_vertices, verts, rest, uvs, foreign);
       const double before = patch.original_energy();
-      patch.start_at_copies();
+      // Only small islands: a large one is a whole chart (a plate traced
+      // mirrored), and laying it down anew would move it over other charts.
+      if (options.island_start && !patch.has_fixed_corner() &&
+          patch.triangles().size() <= options.island_max_triangles)
+        patch.start_island();
+      else patch.start_at_copies();
       if (!std::isfinite(patch.energy())) patch.start_tutte(500);
       if (!std::isfinite(patch.energy())) {
         patch.start_at_copies();  // vertices no triangle reaches keep their copies' mean
@@ -521,7 +587,7 @@ UvRepairResult repair_uvs(const Soup& soup, const quality::Weld& weld,
     (done ? r.repaired_patches : r.failed_patches) += 1;
     if (!done && r.failed_detail.size() < 12) {
       // What a failed patch looked like at its last try, to tell causes apart.
-      Patch last(free_vertices, verts, rest, uvs);
+      Patch last(free_vertices, verts, rest, uvs, foreign);
       size_t fixed_corners = 0, invalid = 0;
       for (uint32_t t : last.triangles()) invalid += !rest[t].valid;
       for (size_t i = 0; i < last.triangles().size(); ++i)

@@ -154,9 +154,11 @@ TEST(UvRepair, VerticesOnTwoChartsStayApart) {
 // A chart island of one grid cell (its two triangles on chart 1, the rest on
 // chart 0) whose UVs are mirrored and shrunk: no corner is fixed, so the
 // copies' mean keeps the fold, Tutte collapses everything to a point and
-// unfolding has nothing to start from. Only the untangling start
-// (Garanzha et al.) gets it flip-free; without it the patch fails.
-TEST(UvRepair, MirroredChartIslandNeedsTheUntanglingStart) {
+// unfolding has nothing to start from. The island start (one triangle laid
+// down isometrically, the rest unfolded from it) or the untangling start
+// (Garanzha et al.) gets it flip-free, each on its own; without both the
+// patch fails.
+TEST(UvRepair, MirroredChartIslandNeedsTheIslandOrUntanglingStart) {
   auto make = [] {
     Case c;
     for (size_t t = 0; t < c.soup.triangles.size(); ++t) {
@@ -177,9 +179,20 @@ TEST(UvRepair, MirroredChartIslandNeedsTheUntanglingStart) {
   EXPECT_EQ(with.metrics().flipped, 0u);
   EXPECT_EQ(r.failed_patches, 0u);
 
+  for (bool island : {true, false}) {
+    Case one = make();
+    UvRepairOptions o;
+    o.island_start = island;
+    o.untangle = !island;
+    UvRepairResult r1 = repair_uvs(one.soup, one.weld, one.chart, kScale, one.uvs, o);
+    EXPECT_EQ(one.metrics().flipped, 0u) << "island start " << island;
+    EXPECT_EQ(r1.failed_patches, 0u) << "island start " << island;
+  }
+
   Case without = make();
   UvRepairOptions o;
   o.untangle = false;
+  o.island_start = false;
   UvRepairResult r0 = repair_uvs(without.soup, without.weld, without.chart, kScale, without.uvs, o);
   EXPECT_EQ(without.metrics().flipped, 2u);
   EXPECT_EQ(r0.failed_patches, 1u);

@@ -29,6 +29,19 @@ struct Weld {
 // a tolerance close to the edge length cannot collapse whole regions.
 Weld weld_corners(const Soup& soup, double tolerance, double edge_fraction = 0);
 
+// Welds through matched edges instead (quality/edge_weld.cpp): two triangle
+// edges whose endpoints lie within `tolerance` of each other's, closest pairs
+// first, each edge matched once, never two corners of one triangle joined.
+// On noisy soups whose noise reaches the shortest edges it joins fewer
+// distinct vertices than weld_corners (teapot soup vs its original, 4e-3 vs
+// 2e-3 of the diagonal: 257 vs 409 corners on a wrong vertex, 134 vs 430
+// false neighbour pairs, 203 vs 284 missed; suzanne, fandisk: none false
+// either way). An edge is left unmatched when its second-closest partner is
+// within ambiguity_ratio x the closest's cost (1 = off; 2 on the teapot: 10
+// false pairs but 837 missed). Corners that share no edge with another
+// triangle stay unwelded.
+Weld weld_by_edges(const Soup& soup, double tolerance, double ambiguity_ratio = 1);
+
 // Two triangles that share an edge: corner a_corner[i] of triangle a and
 // corner b_corner[i] of triangle b are the same welded vertex (i = 0, 1).
 struct AdjacentPair {

@@ -16,8 +16,10 @@
 // Method: a "UV vertex" is a (welded vertex, chart) pair. The UV vertices of
 // bad triangles that touch each other form a patch; its triangles are every
 // soup triangle on that chart using one of them, and all their other UV
-// vertices stay fixed (each fixed corner keeps its own UV). Start from a
-// flip-free placement: the free vertices at the mean of their copies, or if
+// vertices stay fixed (each fixed corner keeps its own UV). A patch with no
+// fixed corner at all (a chart island) starts from one triangle laid down
+// isometrically at its own UV and the rest unfolded from it. Otherwise start
+// from a flip-free placement: the free vertices at the mean of their copies, or if
 // that folds, a Tutte embedding (uniform weights) inside the fixed ones, or
 // an unfolding from the fixed corners inwards; if all fold (a fan open at a
 // chart border, a chart island with no fixed corner at all, a concave ring),
@@ -65,9 +67,24 @@ struct UvRepairOptions {
   // (Garanzha et al. 2021) from the copies' mean for up to untangle_rounds
   // rounds of its eps schedule.
   bool untangle = true;
+  // A patch with no fixed corner (a chart island: triangles whose corners
+  // landed on two charts, a part cut off by the weld) starts from one
+  // triangle laid down isometrically at its corner 0's UV, the rest unfolded
+  // from it. Off: such patches start like the others (fandisk: 3-4 of them
+  // failed as slivers, flipped 0.05 % / L2 1.36 vs 0 / 1.17 with it).
+  bool island_start = true;
+  // ... only for islands of at most this many triangles: a larger one is a
+  // whole chart (e.g. a plate traced mirrored), which the island start would
+  // lay down over other charts (Fig. 19 planes: flipped 0 -> 14 % unlimited).
+  size_t island_max_triangles = 32;
   int untangle_rounds = 30;
   int max_sweeps = 100;              // coordinate-descent sweeps per patch
   size_t max_patch_vertices = 4000;  // larger patches are left alone (counted)
+  // The chart each corner landed on (3 per triangle), when a triangle's
+  // corners may lie on different charts (§8 could not bring them onto one):
+  // such corners are repaired onto the triangle's chart (triangle_chart).
+  // nullptr: every corner is on its triangle's chart.
+  const std::vector<int>* corner_chart = nullptr;
 };
 
 struct UvRepairResult {
