@@ -6,6 +6,7 @@
 #include "pipeline/field_codec.h"
 #include "pipeline/shared_seeds.h"
 #include "soupuv/cache/bytes.h"
+#include "soupuv/proxy/offset_policy.h"
 #include "soupuv/quality/weld.h"
 #include "soupuv/transfer/intersect.h"
 #include "soupuv/transfer/orient.h"
@@ -13,6 +14,13 @@
 namespace soupuv::pipeline {
 
 namespace {
+
+double mean_edge_length(const Soup& soup) {
+  double sum = 0;
+  for (size_t t = 0; t < soup.triangles.size(); ++t)
+    for (int k = 0; k < 3; ++k) sum += norm(soup.corner(t, k) - soup.corner(t, (k + 1) % 3));
+  return soup.triangles.empty() ? 0 : sum / (3.0 * double(soup.triangles.size()));
+}
 
 double since(std::chrono::steady_clock::time_point t0) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
@@ -29,12 +37,14 @@ std::string charge_params(const field::ChargeOptions& o) {
   return s.str();
 }
 
-std::string trace_params(const FieldBranchOptions& b) {
-  const field::TraceOptions& o = b.trace;
+// `o`: the trace options as traced (stop sphere and box filled in).
+std::string trace_params(const FieldBranchOptions& b, const field::TraceOptions& o) {
   std::ostringstream s;
   s.precision(17);
   s << "int=" << int(o.integrator) << " steps=" << o.max_steps << " step=" << o.step
-    << " eps=" << o.start_offset << " stop=" << o.stop_radius << " p=" << o.fmm_order
+    << " eps=" << o.start_offset << " stop=" << o.stop_radius << " box=" << o.stop_box.lo.x << ","
+    << o.stop_box.lo.y << "," << o.stop_box.lo.z << "," << o.stop_box.hi.x << "," << o.stop_box.hi.y
+    << "," << o.stop_box.hi.z << " p=" << o.fmm_order
     << " theta=" << o.fmm_theta << " keep=" << o.keep_points << " adaptive=" << o.adaptive_step
     << " direct=" << o.direct << " leaf=" << o.fmm_leaf_size << " trapped=" << o.trapped_steps << " probes=" << b.trace_cut_probes << " orient=" << b.orient_sides << " share=" << b.share_lines
     << " weld=" << b.weld_tolerance << " edge=" << b.weld_edge_fraction;
@@ -240,6 +250,22 @@ void trace_per_corner(const Soup& soup, const field::ChargeResult& charges,
 
 }  // namespace
 
+double proxy_reach(const Soup& soup, const proxy::ProxyOptions& options) {
+  const double diag = bounding_box(soup).diagonal();
+  double ladder = 0;
+  for (double f : options.ladder) ladder = std::max(ladder, f * diag);
+  if (options.offset_mode == proxy::OffsetMode::automatic) return ladder;
+  return std::max(ladder, proxy::absolute_offset(options.offset_mode, options.offset, diag));
+}
+
+Box3 stop_box_for(const Soup& soup, double reach) {
+  Box3 box = bounding_box(soup);
+  const double grow = kReachMargin * reach;
+  box.lo = box.lo - Vec3{grow, grow, grow};
+  box.hi = box.hi + Vec3{grow, grow, grow};
+  return box;
+}
+
 FieldBranchResult run_field_branch(const Soup& soup, const std::string& soup_hash,
                                    const FieldBranchOptions& options, cache::Store* cache,
                                    Progress& progress) {
@@ -248,13 +274,20 @@ FieldBranchResult run_field_branch(const Soup& soup, const std::string& soup_has
   charge_options.threads = options.threads;
   field::TraceOptions trace_options = options.trace;
   trace_options.threads = options.threads;
+  if (options.proxy_reach > 0 && !(trace_options.stop_radius > 0) && trace_options.stop_box.empty()) {
+    trace_options.stop_box = stop_box_for(soup, options.proxy_reach);
+    // The sphere around the grown box: the tracer's FMM region, never the stop.
+    trace_options.stop_radius = 0.5 * trace_options.stop_box.diagonal() * (1 + 1e-9);
+  }
+  if (!(trace_options.start_offset > 0) && options.start_offset_edges > 0)
+    trace_options.start_offset = options.start_offset_edges * mean_edge_length(soup);
 
   // Charges: cached by the soup, the refinement switch and the charge options.
   const std::string charge_key =
       cache::cache_key({"charges", kFieldCacheVersion, soup_hash,
                         options.refine_intersections ? "refine" : "plain", charge_params(charge_options)});
   const std::string lines_key =
-      cache::cache_key({"lines", kFieldCacheVersion, charge_key, trace_params(options)});
+      cache::cache_key({"lines", kFieldCacheVersion, charge_key, trace_params(options, trace_options)});
 
   if (cache) {
     auto hit = cache->get(lines_key);
