@@ -77,6 +77,10 @@ Usage:
                              patches, not from one triangle laid down isometrically
       --no-repair-split      leave triangles whose corners landed on two charts
                              to the repair's usual rules
+      --strict-retry F       after failed repair patches, repair again on an edge
+                             weld that leaves an edge unmatched when its second-best
+                             partner is within F x its best (off; 1.2 trades
+                             continuity for flips on the teapot)
       --weld-corners         §8 neighbours and the repair weld corners by position
                              (--weld-tolerance) instead of matching edges
       --no-refine-intersections  --no-orient  --no-share-lines  --no-chart-fix

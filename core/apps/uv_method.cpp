@@ -160,6 +160,10 @@ bool parse_method_flag(const std::vector<std::string>& args, size_t& i, MethodFl
     o.repair.island_start = false;
   } else if (a == "--no-repair-split") {
     o.repair_split_triangles = false;
+  } else if (a == "--no-strict-retry") {
+    o.repair_strict_retry = 0;
+  } else if (a == "--strict-retry") {
+    o.repair_strict_retry = number(a, value());
   } else if (a == "--weld-corners") {
     o.weld_by_edges = false;
   } else if (a == "--repair-stretch") {

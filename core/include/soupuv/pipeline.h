@@ -137,6 +137,13 @@ struct MapOptions {
   // 1.36 (-> 0 / 1.17 with the repair's island start, uv_repair.h).
   bool weld_by_edges = true;
   double edge_weld_tolerance = 4e-3;
+  // When repair patches failed, the repair can run once more on their
+  // triangles with a strict edge weld (an edge whose second-best partner is
+  // within this factor of its best stays unmatched; <= 1: no retry). Off:
+  // it trades continuity for flips. Teapot (--original, loaded machine, one
+  // binary), cont / flipped % / L2: off 0.942 / 1.14 / 1.72, 1.2 -> 0.937 /
+  // 0.19 / 1.13, 2 -> 0.925 / 0.02 / 1.13. CLI --strict-retry F.
+  double repair_strict_retry = 0;
 
   int threads = 0;             // total budget; 0 = OpenMP default
   cache::Store* cache = nullptr;  // shared, thread-safe; nullptr = no cache

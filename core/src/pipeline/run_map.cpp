@@ -303,6 +303,20 @@ MapResult run_map(const Soup& soup, const MapOptions& options, Progress& progres
         soup, weld, chart, pb.atlas.atlas.uv_per_length, tr.corner_uvs, ro, progress);
     seconds_repair = rep.seconds;
     repair_json.update(rep.diagnostics());
+    // Patches that failed mostly sit where the weld joined distinct vertices
+    // (rows of the soup closer than its noise). Retry the triangles still bad
+    // on a stricter weld that leaves ambiguous edges unmatched: a sparser but
+    // mostly right surface the repair can lay flat.
+    if (rep.failed_patches > 0 && options.weld_by_edges && options.repair_strict_retry > 1) {
+      const quality::Weld strict =
+          quality::weld_by_edges(soup, options.edge_weld_tolerance * diag, options.repair_strict_retry);
+      transfer::UvRepairOptions retry = ro;
+      retry.only_triangles = &rep.failed_triangles;  // elsewhere the first pass did its best
+      transfer::UvRepairResult again = transfer::repair_uvs(
+          soup, strict, chart, pb.atlas.atlas.uv_per_length, tr.corner_uvs, retry, progress);
+      seconds_repair += again.seconds;
+      repair_json["strict_retry"] = again.diagnostics();
+    }
     repair_json["before"] = {{"flipped_fraction", before.flipped_fraction},
                              {"stretch_l2", before.stretch_l2},
                              {"stretch_median", before.stretch_median},

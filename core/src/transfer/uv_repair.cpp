@@ -497,6 +497,12 @@ UvRepairResult repair_uvs(const Soup& soup, const quality::Weld& weld,
   }
   std::vector<uint8_t> bad = find_bad(rest, uvs, options);
   for (size_t c = 0; c < foreign.size(); ++c) bad[c / 3] |= foreign[c] && rest[c / 3].valid;
+  if (options.only_triangles) {
+    std::vector<uint8_t> allowed(n, 0);
+    for (uint32_t t : *options.only_triangles)
+      if (t < n) allowed[t] = 1;
+    for (size_t t = 0; t < n; ++t) bad[t] &= allowed[t];
+  }
   r.bad_triangles = size_t(std::count(bad.begin(), bad.end(), 1));
   const UvVertices verts = uv_vertices(weld, triangle_chart);
 
@@ -585,6 +591,12 @@ UvRepairResult repair_uvs(const Soup& soup, const quality::Weld& weld,
       free_vertices.erase(std::unique(free_vertices.begin(), free_vertices.end()), free_vertices.end());
     }
     (done ? r.repaired_patches : r.failed_patches) += 1;
+    if (!done) {
+      // The triangles of the failed patch's seed, for a retry (only_triangles).
+      for (uint32_t v : patches[p])
+        for (uint32_t e = verts.start[v]; e < verts.start[v + 1]; ++e)
+          r.failed_triangles.push_back(verts.corners[e] / 3);
+    }
     if (!done && r.failed_detail.size() < 12) {
       // What a failed patch looked like at its last try, to tell causes apart.
       Patch last(free_vertices, verts, rest, uvs, foreign);
@@ -617,6 +629,9 @@ UvRepairResult repair_uvs(const Soup& soup, const quality::Weld& weld,
                             moved_vertex[verts.of_corner[3 * t + 2]];
   const std::vector<uint8_t> still_bad = find_bad(rest, uvs, options);
   r.bad_triangles_after = size_t(std::count(still_bad.begin(), still_bad.end(), 1));
+  std::sort(r.failed_triangles.begin(), r.failed_triangles.end());
+  r.failed_triangles.erase(std::unique(r.failed_triangles.begin(), r.failed_triangles.end()),
+                           r.failed_triangles.end());
   progress.update("uv repair", 1);
   r.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   return r;

@@ -197,3 +197,37 @@ TEST(UvRepair, MirroredChartIslandNeedsTheIslandOrUntanglingStart) {
   EXPECT_EQ(without.metrics().flipped, 2u);
   EXPECT_EQ(r0.failed_patches, 1u);
 }
+
+// A triangle whose corner landed on another chart (corner_chart) keeps that
+// chart's far-away UV; the repair moves the corner onto its triangle's chart
+// next to its copies there. only_triangles limits which bad triangles seed
+// patches: an empty list leaves the map as it is.
+TEST(UvRepair, SplitCornerIsBroughtBackAndOnlyTrianglesLimitsTheSeeds) {
+  auto make = [] {
+    Case c;
+    // Triangle 20's corner 1 landed on chart 1, far away in UV.
+    c.uvs[20][1] = Vec2{0.95, 0.95};
+    return c;
+  };
+  Case split = make();
+  std::vector<int> corner_chart(3 * split.soup.triangles.size(), 0);
+  corner_chart[3 * 20 + 1] = 1;
+  const Vec3 p = split.soup.corner(20, 1);
+  UvRepairOptions o;
+  o.corner_chart = &corner_chart;
+  const std::vector<uint32_t> none;
+  o.only_triangles = &none;
+  const auto untouched = split.uvs;
+  repair_uvs(split.soup, split.weld, split.chart, kScale, split.uvs, o);
+  for (size_t t = 0; t < untouched.size(); ++t)
+    for (int k = 0; k < 3; ++k) {
+      EXPECT_EQ(split.uvs[t][k].x, untouched[t][k].x);
+      EXPECT_EQ(split.uvs[t][k].y, untouched[t][k].y);
+    }
+
+  o.only_triangles = nullptr;
+  UvRepairResult r = repair_uvs(split.soup, split.weld, split.chart, kScale, split.uvs, o);
+  EXPECT_EQ(r.failed_patches, 0u);
+  EXPECT_LT(norm(split.uvs[20][1] - isometric(p)), 0.02);  // next to its copies again
+  EXPECT_EQ(split.metrics().flipped, 0u);
+}

@@ -85,6 +85,10 @@ struct UvRepairOptions {
   // such corners are repaired onto the triangle's chart (triangle_chart).
   // nullptr: every corner is on its triangle's chart.
   const std::vector<int>* corner_chart = nullptr;
+  // Only these triangles may seed patches (e.g. a retry of the failed
+  // patches of an earlier pass, UvRepairResult::failed_triangles); nullptr:
+  // every bad triangle.
+  const std::vector<uint32_t>* only_triangles = nullptr;
 };
 
 struct UvRepairResult {
@@ -102,6 +106,8 @@ struct UvRepairResult {
   // The first failed patches at their last try: a triangle of the seed,
   // sizes, fixed corners, 3D-degenerate triangles, reason.
   nlohmann::json failed_detail = nlohmann::json::array();
+  // Every triangle around a failed patch's seed vertices (sorted, unique).
+  std::vector<uint32_t> failed_triangles;
   double seconds = 0;
   nlohmann::json diagnostics() const;
 };
