@@ -51,6 +51,9 @@ void check(const Sample& s) {
 
 }  // namespace
 
-TEST(SharedSamples, Suzanne) { check({"suzanne", 0.02, 4.0, 0.85}); }
+// Floors under session 5's figures (edge weld + island start + split
+// corners; loaded machine): suzanne 0 % / 1.10 / 0.912, spot 0 % / 1.19 /
+// 0.959. Suzanne was 1.14 % / 3.47 / 0.906 with the corner weld.
+TEST(SharedSamples, Suzanne) { check({"suzanne", 0.005, 2.5, 0.88}); }
 
-TEST(SharedSamples, Spot) { check({"spot", 0.005, 1.3, 0.92}); }
+TEST(SharedSamples, Spot) { check({"spot", 0.005, 1.3, 0.94}); }
