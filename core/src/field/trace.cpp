@@ -193,6 +193,9 @@ FieldLines trace_field_lines(const ChargeResult& charges, const std::vector<Trac
   auto t0 = Clock::now();
   if (charges.charges.size() != charges.triangles.size())
     throw Error(ErrorCode::invalid_input, "trace: charges do not match the source triangles");
+  // A step of at least the nearest triangle's distance could reach it.
+  if (!(options.near_step_fraction > 0 && options.near_step_fraction < 1))
+    throw Error(ErrorCode::invalid_input, "trace: near_step_fraction must lie in (0, 1)");
   if (seeds.size() >= (size_t{1} << 32))
     throw Error(ErrorCode::limit_exceeded, "trace: too many seeds");
   SourceGeometry src = make_sources(charges.positions, charges.triangles, charges.quadrature_degree);
