@@ -6,7 +6,8 @@
 // 1e-3, 1)): intersections refined and charges solved once as run_map does,
 // one shared seed per welded vertex (pipeline/shared_seeds.h), then
 // trace_field_lines with the pipeline's TraceOptions (variant "pipeline") or
-// a variant of them, once per thread count. Per run: TraceStats, evaluations
+// a variant of them, once per thread count (the pipeline's stop: the box of
+// field_branch.h for the default proxy ladder). Per run: TraceStats, evaluations
 // per line, us per evaluation (wall and CPU), where the time goes along the
 // lines (per step index: active lines, how many still take shortened
 // near-surface steps; a least-squares split of the step times into a cost
@@ -95,11 +96,14 @@ void apply(const Variant& v, MapOptions& o, const Soup& soup, double diag, doubl
   }
 }
 
-// run_map's stop sphere for the default proxy ladder (run_map.cpp, stop_radius).
-double pipeline_stop_radius(double diag) {
-  double offset = 0;
-  for (double f : map_proxy_defaults().ladder) offset = std::max(offset, f * diag);
-  return 0.5 * diag + std::max(0.25 * diag, 1.5 * offset);
+// The stop the field branch adds when neither sphere nor box is given: the
+// box of the default proxy ladder's reach (field_branch.h). Session 4's
+// pipeline stopped at a sphere of 0.75 diagonals instead: `--variant
+// sphere:stop=0.75`.
+void pipeline_stop(const Soup& soup, field::TraceOptions& o) {
+  if (o.stop_radius > 0 || !o.stop_box.empty()) return;
+  o.stop_box = pipeline::stop_box_for(soup, pipeline::proxy_reach(soup, map_proxy_defaults()));
+  o.stop_radius = 0.5 * o.stop_box.diagonal() * (1 + 1e-9);
 }
 
 // Where the time of one trace goes, from the per-step progress reports and
@@ -231,7 +235,7 @@ int run_field_branch_bench(const bench::Args& args) {
     MapOptions mo;
     apply(v, mo, soup, diag, mean_edge);
     field::TraceOptions to = mo.trace;
-    if (!(to.stop_radius > 0)) to.stop_radius = pipeline_stop_radius(diag);
+    pipeline_stop(soup, to);
     const double full_step = to.step > 0 ? to.step : 0.02 * diag;
     for (int threads : thread_counts) {
       to.threads = threads;
@@ -276,6 +280,7 @@ int run_field_branch_bench(const bench::Args& args) {
                             {"stalled", stats.stalled},
                             {"trapped", stats.trapped},
                             {"stop_radius_diagonals", to.stop_radius / diag},
+                            {"stop_box", !to.stop_box.empty()},
                             {"step_diagonals", full_step / diag},
                             {"fmm_order", to.fmm_order},
                             {"fmm_theta", to.fmm_theta},
