@@ -242,24 +242,48 @@ class Patch {
   void start_island() {
     start_at_copies();
     std::vector<uint8_t> placed(free_.size(), 0);
+    // Triangles meeting the placed part at one vertex only (or not at all)
+    // are not reached by unfolding: lay each down isometrically in turn,
+    // hinged at its placed corner if it has one.
     for (size_t i = 0; i < triangles_.size(); ++i) {
       const RestTriangle& r = rest_[triangles_[i]];
-      if (!r.valid) continue;
-      const Vec2 anchor = uvs_[triangles_[i]][0];
-      // Keep the triangle inside [0,1]^2 when the anchor sits at an edge.
-      Vec2 lo{0, 0}, hi{0, 0};
+      int hinge = -1, unplaced = 0;
       for (int k = 0; k < 3; ++k) {
-        lo = {std::min(lo.x, r.x[k].x), std::min(lo.y, r.x[k].y)};
-        hi = {std::max(hi.x, r.x[k].x), std::max(hi.y, r.x[k].y)};
+        if (placed[slot_[i][k]]) hinge = k;
+        else ++unplaced;
       }
-      const Vec2 at{std::clamp(anchor.x, -lo.x, 1 - hi.x), std::clamp(anchor.y, -lo.y, 1 - hi.y)};
-      for (int k = 0; k < 3; ++k) {
-        uv_[slot_[i][k]] = at + r.x[k];
-        placed[slot_[i][k]] = 1;
+      if (!r.valid || unplaced == 0 || unplaced == 1) continue;
+      Vec2 at;
+      if (hinge >= 0) {
+        at = uv_[slot_[i][hinge]] - r.x[hinge];
+      } else {
+        // At the triangle's own corner 0's UV (a point on this chart),
+        // kept inside [0,1]^2 when that sits at an edge.
+        const Vec2 anchor = uvs_[triangles_[i]][0];
+        Vec2 lo{0, 0}, hi{0, 0};
+        for (int k = 0; k < 3; ++k) {
+          lo = {std::min(lo.x, r.x[k].x), std::min(lo.y, r.x[k].y)};
+          hi = {std::max(hi.x, r.x[k].x), std::max(hi.y, r.x[k].y)};
+        }
+        at = {std::clamp(anchor.x, -lo.x, 1 - hi.x), std::clamp(anchor.y, -lo.y, 1 - hi.y)};
       }
-      break;
+      for (int k = 0; k < 3; ++k)
+        if (!placed[slot_[i][k]]) {
+          uv_[slot_[i][k]] = at + r.x[k];
+          placed[slot_[i][k]] = 1;
+        }
+      unfold_from(placed);
     }
-    unfold_from(placed);
+    // Unfolded triangles may stick out of [0,1]^2 where the island sits at
+    // the atlas's edge (bunny: 5 islands failed so): shift it back inside.
+    Vec2 lo{kInf, kInf}, hi{-kInf, -kInf};
+    for (const Vec2& p : uv_) {
+      lo = {std::min(lo.x, p.x), std::min(lo.y, p.y)};
+      hi = {std::max(hi.x, p.x), std::max(hi.y, p.y)};
+    }
+    const Vec2 shift{std::max(0.0, -lo.x) - std::max(0.0, hi.x - 1),
+                     std::max(0.0, -lo.y) - std::max(0.0, hi.y - 1)};
+    for (Vec2& p : uv_) p = p + shift;
   }
 
   void unfold_from(std::vector<uint8_t>& placed) {
