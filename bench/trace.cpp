@@ -248,6 +248,8 @@ void run_table5(const Flags& f, const bench::Args& args) {
                  {"fmm_order", o.fmm_order}, {"fmm_theta", o.fmm_theta}, {"fmm_leaf_size", o.fmm_leaf_size},
                  {"near_step_fraction", o.near_step_fraction}, {"max_turn_per_step", o.max_turn_per_step},
                  {"cpu_per_evaluation_us", 1e6 * cpu_fmm / double(st.evaluations)},
+                 {"expansions", st.expansions}, {"m2l_operations", st.m2l_operations},
+                 {"m2l_per_evaluation", double(st.m2l_operations) / double(st.evaluations)},
                  {"escaped", st.escaped}, {"step_limit", st.step_limit}, {"stalled", st.stalled},
                  {"trapped", st.trapped},
                  {"peak_rss_mb", bench::peak_rss_mb()}});

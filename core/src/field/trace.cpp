@@ -156,6 +156,10 @@ class BatchField {
     }
   }
 
+  // Local expansions computed and M2L operations spent so far (0 for direct).
+  size_t expansions() const { return tracer_ ? tracer_->expansions() : 0; }
+  size_t m2l_operations() const { return tracer_ ? tracer_->m2l_operations() : 0; }
+
  private:
   void evaluate_direct(const std::vector<Vec3>& x, std::vector<Vec3>& E, std::vector<double>* nearest) const {
     const long n = static_cast<long>(x.size());
@@ -376,6 +380,8 @@ FieldLines trace_field_lines(const ChargeResult& charges, const std::vector<Trac
     stats->build_seconds = build_seconds;
     stats->evaluations = evaluations;
     stats->steps = steps_total;
+    stats->expansions = field.expansions();
+    stats->m2l_operations = field.m2l_operations();
     stats->escaped = stats->step_limit = stats->stalled = stats->trapped = 0;
     for (LineEnd e : out.ends) {
       if (e == LineEnd::escaped) ++stats->escaped;

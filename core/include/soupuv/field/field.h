@@ -204,6 +204,9 @@ struct TraceStats {
   size_t evaluations = 0;     // field evaluations
   size_t steps = 0;
   size_t escaped = 0, step_limit = 0, stalled = 0, trapped = 0;
+  // Target cells whose local expansion the tracer computed (only where
+  // lines went) and the M2L operations that cost: at small n a visible share.
+  size_t expansions = 0, m2l_operations = 0;
 };
 
 FieldLines trace_field_lines(const ChargeResult& charges, const std::vector<TraceSeed>& seeds,
