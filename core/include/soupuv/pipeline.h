@@ -67,9 +67,10 @@ struct MapOptions {
   // 0.9532; CPU 10.5 -> 5.9 s (suzanne), 10.3 -> 9.5 (spot), 28.2 -> 25.1
   // (fandisk). The saving is small where the soup is large, so not taken.
   field::ChargeOptions charge;
-  // trace.stop_radius = 0 here means: stop once a line is surely past any
-  // proxy (half diagonal + max(1/4 diagonal, 1.5 x offset) from the box
-  // centre), not the tracer's own far default.
+  // trace.stop_radius = 0 (and an empty trace.stop_box) here means: lines
+  // stop outside the soup's box grown by 1.25 x the proxy reach, once they
+  // are surely past any proxy (field_branch.h), not at the tracer's own far
+  // default.
   field::TraceOptions trace;
   transfer::TransferOptions transfer;
 

@@ -55,25 +55,6 @@ ProxyBranch run_proxy_branch(const Soup& soup, const MapOptions& options, int th
   return b;
 }
 
-// Field lines only matter until they have crossed the proxy, which lies
-// within its offset o of the soup, so inside the sphere of radius
-// half-diagonal + o around the box centre. Stopping there (instead of the
-// tracer's far default) saves most of the steps and memory. The margin is
-// generous — at least a quarter diagonal and 1.5x any offset the proxy may
-// use — so cached lines still serve a re-run with another offset.
-double stop_radius(const Soup& soup, const proxy::ProxyOptions& p) {
-  const double diag = bounding_box(soup).diagonal();
-  double offset = 0;
-  switch (p.offset_mode) {
-    case proxy::OffsetMode::absolute: offset = p.offset; break;
-    case proxy::OffsetMode::relative: offset = p.offset * diag; break;
-    case proxy::OffsetMode::automatic:
-      for (double f : p.ladder) offset = std::max(offset, f * diag);
-      break;
-  }
-  return 0.5 * diag + std::max(0.25 * diag, 1.5 * offset);
-}
-
 std::vector<quality::AdjacentPair> metric_pairs(const Soup& soup, const MapOptions& options) {
   const double diag = bounding_box(soup).diagonal();
   return options.original
@@ -210,7 +191,7 @@ MapResult run_map(const Soup& soup, const MapOptions& options, Progress& progres
   fo.weld_tolerance = options.weld_tolerance * diag;
   fo.weld_edge_fraction = options.weld_edge_fraction;
   fo.threads = field_threads;
-  if (!(fo.trace.stop_radius > 0)) fo.trace.stop_radius = stop_radius(soup, options.proxy);
+  fo.proxy_reach = pipeline::proxy_reach(soup, options.proxy);
 
   // The two branches (paper Fig. 3): field on a second thread, proxy + atlas here.
   Progress field_progress = child_of(progress);
