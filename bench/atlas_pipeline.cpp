@@ -14,7 +14,7 @@
 //                        merge_area, merge_fill, merge_cone
 //                        (merge_max_normal_deviation_deg), pack_splits,
 //                        split_below, relax (0/1: seam relaxation),
-//                        relax_band, soup_weights (0/1: seam weights from
+//                        relax_band, relax_stretch, relax_narrow, soup_weights (0/1: seam weights from
 //                        the soup's edge density, with relax),
 //                        offset (proxy offset, fraction of the diagonal;
 //                        default: auto), proxy_edge (proxy remeshing edge
@@ -87,6 +87,8 @@ Variant parse_variant(const std::string& text) {
     else if (key == "split_below") a.packing_split_below = value;
     else if (key == "relax") a.relax_seams = value != 0;
     else if (key == "relax_band") a.relax_band = value;
+    else if (key == "relax_stretch") a.relax_max_stretch_increase = value;
+    else if (key == "relax_narrow") a.relax_narrowings = int(value);
     else if (key == "soup_weights") a.soup_seam_weights = value != 0;
     else if (key == "offset") v.offset = value;
     else if (key == "proxy_edge") v.proxy_edge = value;

@@ -179,6 +179,8 @@ AtlasResult build_atlas(const TriMesh& mesh, const AtlasOptions& options, Progre
     relax.max_stretch = options.max_stretch;
     relax.arap_iterations = options.arap_iterations;
     relax.band_fraction = options.relax_band;
+    relax.max_stretch_increase = options.relax_max_stretch_increase;
+    relax.narrowings = options.relax_narrowings;
     relax.threads = threads;
     RelaxStats r = relax_seams(mesh, topology, seam, done, face_chart, face_local, options.seam_weight, relax);
     stats.relaxed_pairs = r.pairs_relaxed;

@@ -22,8 +22,21 @@ struct Trial {
   int id_a = -1, id_b = -1;  // their chart ids in face_chart
   std::vector<std::pair<int, int>> moved;  // (face, previous chart id)
   FlatChart new_a, new_b;
+  double area_a = 0, area_b = 0;  // 3D areas of the two charts before
+  double stretch_before = 0;      // their joint L2 stretch before
   bool ok = false;
 };
+
+double chart_area(const MeshTopology& t, const FlatChart& c) {
+  double a = 0;
+  for (int f : c.mesh.faces) a += t.face_area[f];
+  return a;
+}
+
+// L2 stretch is a root mean square over area, so two charts combine as one.
+double joint_stretch(double area_a, double sa, double area_b, double sb) {
+  return std::sqrt((area_a * sa * sa + area_b * sb * sb) / (area_a + area_b));
+}
 
 double weight_of(const std::vector<double>& w, int f) { return w.empty() ? 1.0 : w[f]; }
 
@@ -140,6 +153,10 @@ RelaxStats relax_seams(const TriMesh& mesh, const MeshTopology& t, const std::ve
   const int n = static_cast<int>(charts.size());
   std::vector<int> version(n, 0);
   std::map<std::pair<int, int>, std::pair<int, int>> tried;  // pair -> versions when tried
+  // A pair whose relabelling failed to flatten is tried again with half the
+  // band (a narrower band keeps the cut closer to the boundary that did
+  // flatten), at most `narrowings` times.
+  std::map<std::pair<int, int>, int> failures;
   std::vector<double> dist(nf, INFINITY);
   std::vector<int> node_of(nf, -1);
   for (int round = 0; round < options.rounds; ++round) {
@@ -169,7 +186,9 @@ RelaxStats relax_seams(const TriMesh& mesh, const MeshTopology& t, const std::ve
       if (busy[p.a] || busy[p.b]) continue;
       tried[{p.a, p.b}] = {version[p.a], version[p.b]};
       ++stats.pairs_tried;
-      auto moved = cheapest_cut(t, seam, face_chart, w, charts[p.a], charts[p.b], p.cost, options, dist, node_of);
+      RelaxOptions narrowed = options;
+      narrowed.band_fraction = std::ldexp(options.band_fraction, -failures[{p.a, p.b}]);
+      auto moved = cheapest_cut(t, seam, face_chart, w, charts[p.a], charts[p.b], p.cost, narrowed, dist, node_of);
       if (moved.empty()) continue;
       busy[p.a] = busy[p.b] = 1;
       const int id_a = face_chart[charts[p.a].mesh.faces[0]];
@@ -180,6 +199,11 @@ RelaxStats relax_seams(const TriMesh& mesh, const MeshTopology& t, const std::ve
       trial.b = p.b;
       trial.id_a = id_a;
       trial.id_b = id_b;
+      trial.area_a = chart_area(t, charts[p.a]);
+      trial.area_b = chart_area(t, charts[p.b]);
+      trial.stretch_before =
+          joint_stretch(trial.area_a, chart_stretch_l2(charts[p.a].mesh, charts[p.a].uv), trial.area_b,
+                        chart_stretch_l2(charts[p.b].mesh, charts[p.b].uv));
       trial.moved = std::move(moved);
       trials.push_back(std::move(trial));
     }
@@ -193,20 +217,26 @@ RelaxStats relax_seams(const TriMesh& mesh, const MeshTopology& t, const std::ve
       for (int f : union_faces) (face_chart[f] == tr.id_a ? fa : fb).push_back(f);
       if (fa.empty() || fb.empty()) continue;
       bool ok = true;
+      double stretch[2] = {0, 0};
+      int side = 0;
       for (auto [faces, out] : {std::pair{&fa, &tr.new_a}, std::pair{&fb, &tr.new_b}}) {
         out->mesh = extract_chart(mesh, t, *faces, face_chart, seam, face_local);
         if (!out->mesh.is_disk()) { ok = false; break; }
         ChartParameterization p = parameterize_chart(out->mesh, options.arap_iterations, options.max_stretch);
         if (!p.ok) { ok = false; break; }
+        stretch[side++] = p.stretch_l2;
         out->uv = std::move(p.uv);
       }
-      tr.ok = ok;
+      tr.ok = ok && joint_stretch(chart_area(t, tr.new_a), stretch[0], chart_area(t, tr.new_b), stretch[1]) <=
+                        tr.stretch_before + options.max_stretch_increase;
     }
     for (Trial& tr : trials) {
       if (!tr.ok) {
         for (auto& [f, old] : tr.moved) face_chart[f] = old;
+        if (++failures[{tr.a, tr.b}] <= options.narrowings) tried.erase({tr.a, tr.b});
         continue;
       }
+      failures.erase({tr.a, tr.b});
       stats.faces_moved += static_cast<int>(tr.moved.size());
       ++stats.pairs_relaxed;
       charts[tr.a] = std::move(tr.new_a);

@@ -19,8 +19,10 @@
 // (max_flow.h) is the cheapest A/B boundary that keeps both cores; it is
 // never dearer than the current one, which is one of the cuts. The pair is
 // relabelled and both charts are flattened again; the new pair is kept only
-// when both are disks that flatten validly. Disjoint pairs run in parallel;
-// rounds repeat while some pair improves.
+// when both are disks that flatten validly, their joint L2 stretch rising by
+// at most max_stretch_increase; otherwise the pair is retried
+// with half the band. Disjoint pairs run in parallel; rounds repeat while
+// some pair improves.
 #pragma once
 
 #include <vector>
@@ -38,7 +40,14 @@ struct RelaxOptions {
   // A pair is relabelled only when the cut saves at least this fraction of
   // its current weighted boundary (re-flattening costs; tiny wins are noise).
   double min_gain = 0.02;
-  int rounds = 4;
+  // The pair's L2 stretch (area-weighted RMS of its two charts) may rise by
+  // at most this: a cut can move into a region that flattens worse, and the
+  // soup wears every bit of the atlas's stretch.
+  double max_stretch_increase = 0.02;
+  // A pair whose new charts do not both flatten is retried with the band
+  // halved, up to this many times.
+  int narrowings = 2;
+  int rounds = 6;
   int threads = 1;
 };
 
