@@ -42,17 +42,21 @@ struct FieldBranchOptions {
   // near-surface steps a line travels at the full step, and each step enters
   // fresh FMM target cells (new local expansions for few points). Measured
   // alone (`soupuv-bench field-branch`, 100k noisy torus, 50,668 shared
-  // lines, 2 threads, loaded machine): 0.75-diagonal sphere 4.61 M
-  // evaluations / 42.0 s CPU; box at reach 0.12 diagonals 2.88 M / 29.6 s
-  // CPU; the same UVs (run_map: median shift 0, 0.02 % of corners > 1
-  // texel, continuity 0.98565 -> 0.98564, hit fraction and fallbacks equal).
+  // lines, 2 threads, loaded machine, tracer of 0e23ace): 0.75-diagonal
+  // sphere 4.63 M evaluations / 42.5 s CPU; box at reach 0.12 diagonals
+  // 2.90 M / 27.3 s CPU; the same UVs (run_map with the tracer of 8cae232:
+  // median shift 0, 0.02 % of corners > 1 texel, continuity 0.98565 ->
+  // 0.98564, hit fraction and fallbacks equal).
   double proxy_reach = 0;
   // With trace.start_offset 0 and this > 0: lines start this many mean soup
   // edge lengths off the surface (0: the tracer's own 1e-3). Each 1.5x saves
   // one near-surface step, the most expensive kind, but it costs quality on
-  // the 100k torus (box stop as above; 1e-3 -> 0.03 -> 0.1 edges: 2.88 ->
-  // 2.32 -> 1.88 M evaluations, continuity 0.98564 -> 0.98546 -> 0.98487,
-  // UV islands 11 -> 28 -> 45, L2 1.115 -> 1.112 -> 1.135), so it is off.
+  // the 100k torus (box stop as above, tracer of 8cae232; 1e-3 -> 0.03 ->
+  // 0.1 edges: 2.88 -> 2.32 -> 1.88 M evaluations, continuity 0.98564 ->
+  // 0.98546 -> 0.98487, UV islands 11 -> 28 -> 45, L2 1.115 -> 1.112 ->
+  // 1.135), and 0.01 saves little (2.90 -> 2.66 M evaluations, CPU -2 %;
+  // continuity 0.98566 -> 0.98563, islands 12 -> 13, fallbacks 24 -> 2), so
+  // it is off.
   double start_offset_edges = 0;
 };
 
