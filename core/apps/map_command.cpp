@@ -107,7 +107,10 @@ int run_map(const std::vector<std::string>& args) {
   progress.update("write", 1.0);
   finish_progress(m.progress);
 
+  // The map's warnings (they start with the soup's) and the writer's.
   std::vector<std::string> warnings = asset.soup.warnings;
+  if (run.diagnostics.contains("warnings") && run.diagnostics["warnings"].is_array())
+    warnings = run.diagnostics["warnings"].get<std::vector<std::string>>();
   warnings.insert(warnings.end(), written.warnings.begin(), written.warnings.end());
 
   if (!m.diagnostics.empty()) {

@@ -11,6 +11,7 @@
 #include "soupuv/baseline/box_projection.h"
 #include "soupuv/cache/store.h"
 #include "soupuv/errors.h"
+#include "soupuv/quality/continuity_bound.h"
 #include "soupuv/quality/discontinuity.h"
 #include "soupuv/quality/stretch_tail.h"
 #include "soupuv/quality/uv_metrics.h"
@@ -55,14 +56,32 @@ ProxyBranch run_proxy_branch(const Soup& soup, const MapOptions& options, int th
   return b;
 }
 
-std::vector<quality::AdjacentPair> metric_pairs(const Soup& soup, const MapOptions& options) {
+// The metric's weld: the original's own vertices, else the soup's corners
+// welded by position.
+quality::Weld metric_weld(const Soup& soup, const MapOptions& options) {
+  if (options.original) return quality::weld_corners(*options.original, 0.0);
   const double diag = bounding_box(soup).diagonal();
-  return options.original
-                       ? quality::metric_adjacency(soup, options.original, 0)
-                       : quality::edge_adjacency(
-                             quality::weld_corners(soup, options.weld_tolerance * diag,
-                                                   options.weld_edge_fraction),
-                             soup.triangles.size());
+  return quality::weld_corners(soup, options.weld_tolerance * diag, options.weld_edge_fraction);
+}
+
+std::vector<quality::AdjacentPair> metric_pairs(const Soup& soup, const MapOptions& options) {
+  return options.original ? quality::metric_adjacency(soup, options.original, 0)
+                          : quality::edge_adjacency(metric_weld(soup, options), soup.triangles.size());
+}
+
+// uv.continuity_bound: what no low-distortion atlas can beat (a cube: 11/18).
+void add_continuity_bound(nlohmann::json& uv, const Soup& soup, const MapOptions& options,
+                          const std::vector<quality::AdjacentPair>& adjacency,
+                          std::vector<std::string>& warnings) {
+  const Soup& shape = options.original ? *options.original : soup;
+  if (shape.triangles.size() != soup.triangles.size()) return;
+  const quality::ContinuityBound b =
+      quality::continuity_bound(shape, metric_weld(soup, options), adjacency);
+  uv["continuity_bound"] = b.bound;
+  uv["cone_vertices"] = b.cone_vertices;
+  if (b.bound < 0.95)
+    warnings.push_back("continuity cannot exceed " + std::to_string(b.bound) + ": " +
+                       std::to_string(b.cone_vertices) + " cone vertices must lie on seams (uv.continuity_bound)");
 }
 
 quality::UvMetrics measure(const Soup& soup, const std::vector<std::array<Vec2, 3>>& uvs,
@@ -372,6 +391,7 @@ MapResult run_map(const Soup& soup, const MapOptions& options, Progress& progres
   warnings.insert(warnings.end(), pb.proxy.warnings.begin(), pb.proxy.warnings.end());
   warnings.insert(warnings.end(), pb.atlas.stats.warnings.begin(), pb.atlas.stats.warnings.end());
   if (!pb.proxy.ok()) warnings.push_back("the proxy failed a check (see proxy.*)");
+  add_continuity_bound(d["uv"], soup, options, adjacency, warnings);
   d["warnings"] = warnings;
   d["seconds"] = since(t0);
 
