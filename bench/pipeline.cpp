@@ -143,6 +143,8 @@ nlohmann::json row(const Input& in, const std::string& method, const Timed& run)
                            {"by_class", tail["by_class"]}};
     }
     r["charge_iterations"] = d["charge"].value("iterations", 0);
+    // The most continuity a low-distortion atlas can reach (cones on seams).
+    if (d["uv"].contains("continuity_bound")) r["continuity_bound"] = d["uv"]["continuity_bound"];
   }
   if (d.contains("uv_repair") && d["uv_repair"].value("enabled", false)) {
     r["repaired_vertices"] = d["uv_repair"]["repaired_vertices"];
