@@ -48,6 +48,10 @@ Usage:
                              across smooth boundaries, for shorter seams, is on)
       --merge-charts         atlas: merge charts (the default; with the limits below)
       --merge-area F         ... a merged chart holds at most F of the surface (1)
+      --no-relax-seams       atlas: keep the merged charts' seams (by default they
+                             move to cheaper cuts on coarse soups, <= 8 soup
+                             triangles per proxy face)
+      --relax-seams          atlas: relax seams whatever the soup's density
       --merge-fill F         ... and fills at least F of its minimal rectangle (0)
       --chart-stretch S      atlas: max L2 stretch of a chart before a split
       --pack-splits N        atlas: rounds of halving charts to pack tighter
@@ -79,8 +83,8 @@ Usage:
                              to the repair's usual rules
       --strict-retry F       after failed repair patches, repair again on an edge
                              weld that leaves an edge unmatched when its second-best
-                             partner is within F x its best (off; 1.2 trades
-                             continuity for flips on the teapot)
+                             partner is within F x its best (1.2; trades a
+                             little continuity for flips; --no-strict-retry: off)
       --weld-corners         §8 neighbours and the repair weld corners by position
                              (--weld-tolerance) instead of matching edges
       --no-refine-intersections  --no-orient  --no-share-lines  --no-chart-fix

@@ -97,6 +97,11 @@ bool parse_method_flag(const std::vector<std::string>& args, size_t& i, MethodFl
     o.atlas.merge_charts = true;
   } else if (a == "--no-merge-charts") {
     o.atlas.merge_charts = false;
+  } else if (a == "--no-relax-seams") {
+    o.atlas.relax_seams = false;
+  } else if (a == "--relax-seams") {
+    o.atlas.relax_seams = true;
+    o.relax_max_soup_per_proxy_face = 0;
   } else if (a == "--merge-area") {
     o.atlas.merge_max_area_fraction = number(a, value());
     if (!(o.atlas.merge_max_area_fraction > 0 && o.atlas.merge_max_area_fraction <= 1))

@@ -2,6 +2,7 @@
 
 #include <omp.h>
 
+#include <algorithm>
 #include <chrono>
 #include <exception>
 #include <thread>
@@ -48,6 +49,11 @@ ProxyBranch run_proxy_branch(const Soup& soup, const MapOptions& options, int th
   atlas::AtlasOptions ao = options.atlas;
   ao.threads = threads;
   auto t1 = Clock::now();
+  const double soup_per_proxy_face =
+      double(soup.triangles.size()) / double(std::max<size_t>(1, b.proxy.proxy.mesh.faces.size()));
+  if (options.relax_max_soup_per_proxy_face > 0 &&
+      soup_per_proxy_face > options.relax_max_soup_per_proxy_face)
+    ao.relax_seams = false;
   // Seams placed by cost: a seam through fine soup cuts more pairs.
   if (ao.relax_seams && ao.soup_seam_weights && ao.seam_weight.empty())
     ao.seam_weight = soup_seam_weights(soup, b.proxy.proxy.mesh, threads);
