@@ -25,17 +25,13 @@
 #include <limits>
 #include <unordered_map>
 
+#include "quality/corner_grid.h"
 #include "soupuv/quality/weld.h"
 #include "soupuv/union_find.h"
 
 namespace soupuv::quality {
 
 namespace {
-
-uint64_t cell_key(int64_t x, int64_t y, int64_t z) {
-  return (uint64_t(x) & 0x1fffff) | ((uint64_t(y) & 0x1fffff) << 21) |
-         ((uint64_t(z) & 0x1fffff) << 42);
-}
 
 struct EdgeMatch {
   double cost;
@@ -59,13 +55,7 @@ Weld weld_by_edges(const Soup& soup, double tolerance, double ambiguity_ratio) {
   // A zero tolerance still buckets exact copies together; the grid stays at
   // most 2^20 cells per axis (a coarser cell only costs more distance tests).
   const double cell = std::max({tolerance, span / double(1 << 20), box.diagonal() * 1e-9, 1e-300});
-  auto coord = [&](double v, double lo) { return int64_t(std::floor((v - lo) / cell)); };
-  auto key_of = [&](const Vec3& p) {
-    return cell_key(coord(p.x, box.lo.x), coord(p.y, box.lo.y), coord(p.z, box.lo.z));
-  };
-  std::unordered_map<uint64_t, std::vector<uint32_t>> grid;
-  grid.reserve(corners);
-  for (size_t c = 0; c < corners; ++c) grid[key_of(pos(c))].push_back(uint32_t(c));
+  const CornerGrid grid(soup, box, cell);
 
   // A neighbour across an edge lies on its far side; a triangle on the same
   // side and nearly parallel overlaps ours: it is the next row of a strip
@@ -86,26 +76,18 @@ Weld weld_by_edges(const Soup& soup, double tolerance, double ambiguity_ratio) {
   std::vector<EdgeMatch> candidates;
   for (uint32_t e = 0; e < corners; ++e) {
     const Vec3 p = pos(e), q = pos(next(e));
-    const int64_t cx = coord(q.x, box.lo.x), cy = coord(q.y, box.lo.y), cz = coord(q.z, box.lo.z);
-    for (int64_t dx = -1; dx <= 1; ++dx)
-      for (int64_t dy = -1; dy <= 1; ++dy)
-        for (int64_t dz = -1; dz <= 1; ++dz) {
-          if (cx + dx < 0 || cy + dy < 0 || cz + dz < 0) continue;
-          auto it = grid.find(cell_key(cx + dx, cy + dy, cz + dz));
-          if (it == grid.end()) continue;
-          for (uint32_t c : it->second) {  // c lies near q
-            if (c / 3 == e / 3) continue;
-            const double dq = norm2(pos(c) - q);
-            if (dq > tol2) continue;
-            // Back along c -> next(c) (consistent winding), or forward along
-            // prev(c) -> c (a flipped neighbour); each pair is listed once.
-            const double back = norm2(pos(next(c)) - p);
-            if (back <= tol2 && e < c && !overlaps(e, c)) candidates.push_back({dq + back, e, c, false});
-            const double forward = norm2(pos(prev(c)) - p);
-            if (forward <= tol2 && e < prev(c) && !overlaps(e, prev(c)))
-              candidates.push_back({dq + forward, e, prev(c), true});
-          }
-        }
+    grid.for_each_near(q, [&](uint32_t c) {  // c lies near q
+      if (c / 3 == e / 3) return;
+      const double dq = norm2(pos(c) - q);
+      if (dq > tol2) return;
+      // Back along c -> next(c) (consistent winding), or forward along
+      // prev(c) -> c (a flipped neighbour); each pair is listed once.
+      const double back = norm2(pos(next(c)) - p);
+      if (back <= tol2 && e < c && !overlaps(e, c)) candidates.push_back({dq + back, e, c, false});
+      const double forward = norm2(pos(prev(c)) - p);
+      if (forward <= tol2 && e < prev(c) && !overlaps(e, prev(c)))
+        candidates.push_back({dq + forward, e, prev(c), true});
+    });
   }
   std::sort(candidates.begin(), candidates.end(), [](const EdgeMatch& a, const EdgeMatch& b) {
     return a.cost != b.cost ? a.cost < b.cost : (a.edge != b.edge ? a.edge < b.edge : a.other < b.other);

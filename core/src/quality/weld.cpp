@@ -5,20 +5,10 @@
 #include <numeric>
 #include <unordered_map>
 
+#include "quality/corner_grid.h"
 #include "soupuv/union_find.h"
 
 namespace soupuv::quality {
-
-namespace {
-
-uint64_t cell_key(int64_t x, int64_t y, int64_t z) {
-  // 21 bits per axis is plenty: cells are never finer than the tolerance and
-  // coordinates are offset by the box minimum.
-  return (uint64_t(x) & 0x1fffff) | ((uint64_t(y) & 0x1fffff) << 21) |
-         ((uint64_t(z) & 0x1fffff) << 42);
-}
-
-}  // namespace
 
 Weld weld_corners(const Soup& soup, double tolerance, double edge_fraction) {
   const size_t corners = soup.triangles.size() * 3;
@@ -49,14 +39,7 @@ Weld weld_corners(const Soup& soup, double tolerance, double edge_fraction) {
       cap2[t] = edge_fraction * edge_fraction * e;
     }
   }
-  std::unordered_map<uint64_t, std::vector<uint32_t>> grid;
-  grid.reserve(corners);
-  auto coord = [&](double v, double lo) { return int64_t(std::floor((v - lo) / cell)); };
-  for (size_t c = 0; c < corners; ++c) {
-    Vec3 p = pos(c);
-    grid[cell_key(coord(p.x, box.lo.x), coord(p.y, box.lo.y), coord(p.z, box.lo.z))].push_back(
-        uint32_t(c));
-  }
+  const CornerGrid grid(soup, box, cell);
   const double tol2 = tolerance * tolerance;
   struct Candidate {
     double d2;
@@ -64,24 +47,15 @@ Weld weld_corners(const Soup& soup, double tolerance, double edge_fraction) {
   };
   std::vector<Candidate> candidates;
   for (size_t c = 0; c < corners; ++c) {
-    Vec3 p = pos(c);
-    int64_t cx = coord(p.x, box.lo.x), cy = coord(p.y, box.lo.y), cz = coord(p.z, box.lo.z);
-    for (int64_t dx = -1; dx <= 1; ++dx)
-      for (int64_t dy = -1; dy <= 1; ++dy)
-        for (int64_t dz = -1; dz <= 1; ++dz) {
-          if (cx + dx < 0 || cy + dy < 0 || cz + dz < 0) continue;
-          auto it = grid.find(cell_key(cx + dx, cy + dy, cz + dz));
-          if (it == grid.end()) continue;
-          for (uint32_t o : it->second) {
-            if (o <= c) continue;
-            Vec3 q = pos(o);
-            double d2 = norm2(p - q);
-            bool same = exact ? (p.x == q.x && p.y == q.y && p.z == q.z) : d2 <= tol2;
-            if (same && !cap2.empty() && !exact)
-              same = d2 <= std::min(cap2[c / 3], cap2[o / 3]);
-            if (same) candidates.push_back({d2, uint32_t(c), o});
-          }
-        }
+    const Vec3 p = pos(c);
+    grid.for_each_near(p, [&](uint32_t o) {
+      if (o <= c) return;
+      const Vec3 q = pos(o);
+      const double d2 = norm2(p - q);
+      bool same = exact ? (p.x == q.x && p.y == q.y && p.z == q.z) : d2 <= tol2;
+      if (same && !cap2.empty() && !exact) same = d2 <= std::min(cap2[c / 3], cap2[o / 3]);
+      if (same) candidates.push_back({d2, uint32_t(c), o});
+    });
   }
   // Nearest pairs first, and never two corners of one triangle (even through
   // a chain of welds): a noisy copy is closer to its twins than to the next

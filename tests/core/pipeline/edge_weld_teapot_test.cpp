@@ -6,23 +6,14 @@
 #include <set>
 
 #include "soupuv/io/load.h"
+#include "adjacent_pair_set.h"
 #include "soupuv/quality/uv_metrics.h"
 #include "soupuv/quality/weld.h"
 
 using namespace soupuv;
 using namespace soupuv::quality;
-
-namespace {
-
-using PairSet = std::set<std::pair<uint32_t, uint32_t>>;
-
-PairSet pair_set(const std::vector<AdjacentPair>& pairs) {
-  PairSet s;
-  for (const auto& p : pairs) s.insert({std::min(p.a, p.b), std::max(p.a, p.b)});
-  return s;
-}
-
-}  // namespace
+using soupuv::testing::PairSet;
+using soupuv::testing::pair_set;
 
 // The shared teapot soup: its rim rows are closer than the noise, where
 // welding corners nearest-first joins distinct vertices. Matching edges

@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <set>
 
+#include "adjacent_pair_set.h"
 #include "soupuv/quality/uv_metrics.h"
 #include "soupuv/quality/weld.h"
 #include "soupuv/shapes.h"
@@ -15,13 +16,8 @@ using namespace soupuv::quality;
 
 namespace {
 
-using PairSet = std::set<std::pair<uint32_t, uint32_t>>;
-
-PairSet pair_set(const std::vector<AdjacentPair>& pairs) {
-  PairSet s;
-  for (const auto& p : pairs) s.insert({std::min(p.a, p.b), std::max(p.a, p.b)});
-  return s;
-}
+using soupuv::testing::PairSet;
+using soupuv::testing::pair_set;
 
 // The slow twin: the edges whose endpoints both lie within the tolerance of a
 // reversed edge of another triangle, over all pairs. Only the candidate
