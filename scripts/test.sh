@@ -26,12 +26,17 @@ cmake -S . -B build/asan -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DSOUPUV_SAN
 # Only the suites facing untrusted input (SANITIZE in tests/CMakeLists.txt)
 # and the CLI are built here, to keep CI short.
 suites=$(tr ';' ' ' < build/asan/sanitize_suites.txt)
+# The target list goes into a variable, never straight into `grep -q`: under
+# pipefail, grep quitting at its first match can kill ninja with SIGPIPE and
+# the test reads as false (the CLI was once left unbuilt that way).
+known=$(ninja -C build/asan -t targets all | sed 's/:.*//')
+has_target() { grep -qx "$1" <<< "$known"; }
 targets=""; regex=""
 for s in $suites; do
   regex="$regex|^$s\\."
-  ninja -C build/asan -t targets all | grep -q "^soupuv_tests_$s:" && targets="$targets soupuv_tests_$s"
+  if has_target "soupuv_tests_$s"; then targets="$targets soupuv_tests_$s"; fi
 done
-ninja -C build/asan -t targets all | grep -q "^soupuv:" && targets="$targets soupuv"
+if has_target soupuv; then targets="$targets soupuv"; else echo "no soupuv target in build/asan" >&2; exit 1; fi
 cmake --build build/asan -j "$jobs" --target $targets
 echo "== sanitizer tests"
 ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 UBSAN_OPTIONS=print_stacktrace=1 \
