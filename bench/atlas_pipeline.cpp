@@ -21,6 +21,11 @@
 //                        length, fraction of the diagonal; default: the
 //                        offset).
 //   --quick              suzanne and Fox, the pipeline's atlas only.
+//   --charts             also, per (sample, variant), the stretch tail and one
+//                        line per chart: where the soup's stretch comes from
+//                        (soup area landed on the chart, the soup's L2 there,
+//                        the proxy chart's own L2, and that L2 weighted by
+//                        the soup area landed per proxy face).
 //
 // One JSON line per (sample, variant) with the uv figures, the atlas's
 // charts / utilisation / seam length and the discontinuity causes; then one
@@ -37,6 +42,7 @@
 #include "soupuv/errors.h"
 #include "soupuv/io/load.h"
 #include "soupuv/pipeline.h"
+#include "soupuv/quality/uv_metrics.h"
 
 namespace {
 
@@ -97,6 +103,67 @@ Variant parse_variant(const std::string& text) {
   return v;
 }
 
+// Per chart of the debug atlas: which soup triangles landed on it (by the UV
+// centroid, brute force over the proxy's UV triangles: benches only) and the
+// stretch figures at the atlas's texel scale.
+void emit_chart_rows(const std::string& mesh, const std::string& variant, const Soup& soup,
+                     const MapResult& r) {
+  const atlas::Atlas& at = r.debug.atlas;
+  const TriMesh& proxy = r.debug.proxy.mesh;
+  const double scale = at.uv_per_length;
+  const int nc = at.chart_count;
+  std::vector<double> soup_area(nc, 0), soup_sq(nc, 0), proxy_area(nc, 0), proxy_sq(nc, 0);
+  std::vector<double> face_soup_area(proxy.faces.size(), 0), face_sq(proxy.faces.size(), 0);
+  for (size_t f = 0; f < proxy.faces.size(); ++f) {
+    const auto& fv = proxy.faces[f];
+    const Vec3 p0 = proxy.vertices[fv[0]], p1 = proxy.vertices[fv[1]], p2 = proxy.vertices[fv[2]];
+    double big, small;
+    const double a = 0.5 * norm(cross(p1 - p0, p2 - p0));
+    if (!quality::stretch_singular_values(p0, p1, p2, at.face_uvs[f], big, small)) continue;
+    face_sq[f] = 0.5 * (big * big + small * small) * scale * scale;
+    proxy_area[at.face_chart[f]] += a;
+    proxy_sq[at.face_chart[f]] += a * face_sq[f];
+  }
+  auto inside = [](Vec2 p, const std::array<Vec2, 3>& t) {
+    const double d0 = cross(t[1] - t[0], p - t[0]), d1 = cross(t[2] - t[1], p - t[1]),
+                 d2 = cross(t[0] - t[2], p - t[2]);
+    return (d0 >= 0 && d1 >= 0 && d2 >= 0) || (d0 <= 0 && d1 <= 0 && d2 <= 0);
+  };
+  for (size_t t = 0; t < soup.triangles.size(); ++t) {
+    const std::array<Vec2, 3> uv = {r.corner_uvs[3 * t], r.corner_uvs[3 * t + 1], r.corner_uvs[3 * t + 2]};
+    const Vec2 c = (uv[0] + uv[1] + uv[2]) * (1.0 / 3.0);
+    int face = -1;
+    for (size_t f = 0; f < proxy.faces.size() && face < 0; ++f)
+      if (inside(c, at.face_uvs[f])) face = static_cast<int>(f);
+    if (face < 0) continue;
+    const double a = triangle_area(soup, t);
+    double big, small;
+    if (!(a > 0) || !quality::stretch_singular_values(soup.corner(t, 0), soup.corner(t, 1), soup.corner(t, 2), uv,
+                                                      big, small))
+      continue;
+    soup_area[at.face_chart[face]] += a;
+    soup_sq[at.face_chart[face]] += a * 0.5 * (big * big + small * small) * scale * scale;
+    face_soup_area[face] += a;
+  }
+  // The proxy chart's stretch weighted by the soup area that landed on each
+  // face: what the soup would wear if the field map soup -> proxy were a
+  // similarity. Far below soup_l2 means the stretch comes from the field map
+  // (lines that diverge or converge), not from the chart's flattening.
+  std::vector<double> weighted_sq(nc, 0);
+  for (size_t f = 0; f < proxy.faces.size(); ++f) weighted_sq[at.face_chart[f]] += face_soup_area[f] * face_sq[f];
+  for (int c = 0; c < nc; ++c)
+    bench::emit({{"suite", "atlas-pipeline"},
+                 {"kind", "chart"},
+                 {"mesh", mesh},
+                 {"variant", variant},
+                 {"chart", c},
+                 {"soup_area", soup_area[c]},
+                 {"soup_l2", soup_area[c] > 0 ? std::sqrt(soup_sq[c] / soup_area[c]) : 0},
+                 {"proxy_l2_soup_weighted", soup_area[c] > 0 ? std::sqrt(weighted_sq[c] / soup_area[c]) : 0},
+                 {"proxy_area", proxy_area[c]},
+                 {"proxy_l2", proxy_area[c] > 0 ? std::sqrt(proxy_sq[c] / proxy_area[c]) : 0}});
+}
+
 double cpu_seconds() {
   rusage u{};
   getrusage(RUSAGE_SELF, &u);
@@ -107,6 +174,7 @@ double cpu_seconds() {
 int run_atlas_pipeline(const bench::Args& args) {
   std::vector<std::string> only;
   std::vector<Variant> variants;
+  const bool charts = std::find(args.rest.begin(), args.rest.end(), "--charts") != args.rest.end();
   for (size_t i = 0; i + 1 < args.rest.size(); ++i) {
     if (args.rest[i] == "--only") {
       std::stringstream list(args.rest[i + 1]);
@@ -144,6 +212,7 @@ int run_atlas_pipeline(const bench::Args& args) {
       o.atlas = variants[v].atlas;
       o.cache = &store;
       o.original = s.noisy_soup ? &original : nullptr;
+      o.keep_debug = charts;
       if (variants[v].offset > 0) {
         o.proxy.offset_mode = proxy::OffsetMode::relative;
         o.proxy.offset = variants[v].offset;
@@ -186,6 +255,11 @@ int run_atlas_pipeline(const bench::Args& args) {
       if (d.contains("uv_repair") && d["uv_repair"].value("enabled", false))
         row["before_repair"] = d["uv_repair"]["before"];
       bench::emit(row);
+      if (charts) {
+        bench::emit({{"suite", "atlas-pipeline"}, {"kind", "stretch_tail"}, {"mesh", s.name},
+                     {"variant", variants[v].name}, {"stretch_tail", uv["stretch_tail"]}});
+        emit_chart_rows(s.name, variants[v].name, soup, r);
+      }
       Tally& t = tally[v];
       const double c = uv["continuity"].get<double>();
       t.sum += c;
