@@ -68,6 +68,44 @@ atlas::AtlasOptions map_atlas_defaults() {
   // fandisk, Duck, CesiumMan, Fox) take the gains above.
   o.relax_seams = true;
   o.relax_band = 0.6;
+  // Session 6, tried for continuity on the coarse soups and not taken (HEAD
+  // cc91364 plus the pipeline engineer's uncommitted repair work, loaded
+  // machine; `soupuv-bench atlas-pipeline --variant ...`, each against this
+  // default measured on the same tree state: suzanne 0.951-0.953, CesiumMan
+  // 0.944 / 1.26, Fox 0.863 / 1.15), continuity / L2:
+  // - Why a wider cone costs L2 (`--charts`): Fox at merge_cone 130 or 135
+  //   reaches 0.904 but L2 1.45; the chart carrying it (soup L2 1.66)
+  //   flattens at 1.033, 1.040 weighted by the soup landed per proxy face.
+  //   The stretch is the field map's, not the chart's: the stretch tail is
+  //   47 one-chart "converged" triangles, the worst (stretch 5-7 after the
+  //   repair) on the inner faces of the front legs (x = +-5, y 2-24, z
+  //   16-21; the proxy fuses the legs), whose corners' lines leave the gap
+  //   far apart yet land on ONE chart; under the 120 deg cone a seam runs
+  //   there and the chart fix (§8) gives them ~1.5. So a better
+  //   flattening cannot buy the bigger charts; the soup's landing decides.
+  // - A merge bound on the soup's expected stretch, landing estimated by
+  //   each corner's closest proxy point (the atlas branch has no field
+  //   lines): the estimate does not follow the real landing (charts fine in
+  //   the pipeline, soup L2 0.8-1.2, were estimated at 1.2-4.6) and the bad
+  //   Fox merge passed it; no cone + bound 1.2: Fox 0.876 / 1.18, CesiumMan
+  //   0.935 (was 0.944); bound only on the soup triangles a merge joins (2,
+  //   3, 5): Fox 0.895 / 1.48 at every bound. Removed.
+  // - No cone: CesiumMan 0.957 / 1.29, Fox 0.895 / 1.48, suzanne down.
+  //   Cones 125 / 130 / 135: suzanne 0.939 / 0.934 / 0.925 (was 0.953),
+  //   Fox 0.852 / 0.904 / 0.904 with L2 1.15 / 1.45 / 1.45, CesiumMan
+  //   0.944 / 0.942 / 0.947.
+  // - Merge order by soup-weighted shared boundary instead of its length:
+  //   suzanne 0.921, teapot 0.941, Fox 0.859, CesiumMan 0.944 / L2 1.35.
+  // - Relaxation: stretch bound 0.05 or 0.1 (the bunny is gated out now):
+  //   CesiumMan 0.946, spot 0.971, fandisk 0.982, suzanne 0.948 (down);
+  //   band 0.8 (+ bound 0.05): CesiumMan 0.953 / 1.32 (0.950 / 1.24) but
+  //   suzanne 0.928, teapot 0.937; band 1.0: suzanne 0.921.
+  // - Seam weights times the soup's linear compression onto the proxy
+  //   (sqrt of soup area landed per proxy area, closest points, smoothed
+  //   over 2 or 4 proxy edges): suzanne 0.935 / 0.942 (was 0.951), Fox
+  //   0.863 / 0.866, others within +-0.002.
+  // - Proxy offset 0.02 / 0.015 (map_proxy_defaults' ladder starts at
+  //   0.03): more charts; Fox 0.855 / 0.839, suzanne 0.925 / 0.935.
   return o;
 }
 
