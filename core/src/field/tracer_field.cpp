@@ -22,35 +22,39 @@ namespace soupuv::field {
 // a source leaf are contiguous) and with its closed-form frame precomputed.
 struct TracerField::NearTriangle {
   tracer::TriangleFrame frame;
+  double area = 0;
+};
+// Apart from the frame (which only evaluated candidates read), so that
+// classifying a point's candidates touches one cache line per triangle.
+struct TracerField::NearTest {
   Vec3 centroid;
-  double radius = 0, area = 0;
+  double radius = 0;
   double near2 = 0, closed2 = 0;  // squared radii of SourceGeometry::is_near / is_closed_form
+  bool has_area = false;
 };
 
 TracerField::~TracerField() = default;
 
 // The near triangles of one point that take a float rule, collected so the
-// kernel sums them in one go (tracer::rule_field_batch).
+// kernel sums them eight at a time (tracer::rule_field_batch).
 struct TracerField::RuleBatch {
-  static constexpr int kMax = 32;
-  float mid[kMax * 10], split[kMax * 10];  // per triangle: A, B, C relative to x, charge
-  int n_mid = 0, n_split = 0;
+  tracer::RuleTriangles mid, split;  // the degree-6 rule; the same on the four midpoint children
 
   void add(bool whole, Vec3 x, const tracer::TriangleFrame& f, double q, double* e) {
-    float* t = whole ? &mid[10 * n_mid++] : &split[10 * n_split++];
-    for (int v = 0; v < 3; ++v) {
-      const Vec3 d = f.v[v] - x;
-      t[3 * v] = static_cast<float>(d.x);
-      t[3 * v + 1] = static_cast<float>(d.y);
-      t[3 * v + 2] = static_cast<float>(d.z);
+    float v[3][3];
+    for (int k = 0; k < 3; ++k) {
+      const Vec3 d = f.v[k] - x;
+      v[k][0] = static_cast<float>(d.x);
+      v[k][1] = static_cast<float>(d.y);
+      v[k][2] = static_cast<float>(d.z);
     }
-    t[9] = static_cast<float>(q);
-    if (n_mid == kMax || n_split == kMax) flush(e);
+    tracer::RuleTriangles& t = whole ? mid : split;
+    if (t.add(v[0], v[1], v[2], static_cast<float>(q)))
+      tracer::rule_field_batch(whole ? tracer::degree6_rule() : tracer::degree6_children_rule(), t, e);
   }
   void flush(double* e) {
-    if (n_mid) tracer::rule_field_batch(tracer::degree6_rule(), mid, n_mid, e);
-    if (n_split) tracer::rule_field_batch(tracer::degree6_children_rule(), split, n_split, e);
-    n_mid = n_split = 0;
+    tracer::rule_field_batch(tracer::degree6_rule(), mid, e);
+    tracer::rule_field_batch(tracer::degree6_children_rule(), split, e);
   }
 };
 
@@ -101,13 +105,15 @@ TracerField::TracerField(const Fmm& fmm, const std::vector<double>& charges, int
     for (int i = 0; i < m_; ++i) pq_[k * m_ + i] = q * src.qweights[i];
   }
   near_tris_.resize(n);
+  near_test_.resize(n);
   for (size_t k = 0; k < n; ++k) {
     const uint32_t j = fmm.order_[k];
-    NearTriangle& t = near_tris_[k];
-    t.frame = tracer::triangle_frame(src.a[j], src.b[j], src.c[j]);
+    near_tris_[k].frame = tracer::triangle_frame(src.a[j], src.b[j], src.c[j]);
+    near_tris_[k].area = src.area[j];
+    NearTest& t = near_test_[k];
     t.centroid = src.centroid[j];
     t.radius = src.radius[j];
-    t.area = src.area[j];
+    t.has_area = src.area[j] > 0;
     // Computed as SourceGeometry::is_near / is_closed_form do, so the tests agree bit for bit.
     const double rn = src.near_factor * src.radius[j], rc = src.closed_factor * src.radius[j];
     t.near2 = rn * rn;
@@ -288,70 +294,111 @@ void TracerField::field(int leaf, const Vec3* x, int count, Vec3* E, double* nea
   // Source leaf by source leaf, every point in turn: a leaf's float block
   // (a few KB) stays in L1 for all points of the block, where point by
   // point the whole near list (tens of KB) streamed from L2 per point.
-  // Each point keeps its own batch of float-rule triangles.
+  // Each point collects its near candidates and keeps its own batch of
+  // float-rule triangles.
   constexpr int kPoints = 32;
-  thread_local std::vector<RuleBatch> batches(kPoints);
+  // Per-thread scratch, addressed once here: the library is built
+  // position-independent, where every thread_local access is a call.
+  thread_local std::vector<RuleBatch> batches_tls(kPoints);
+  thread_local std::vector<std::vector<int>> candidates_tls(kPoints);
+  thread_local std::vector<std::pair<int, double>> near_tls;
+  std::vector<RuleBatch>& batches = batches_tls;
+  std::vector<std::vector<int>>& candidates = candidates_tls;
+  std::vector<std::pair<int, double>>& near_scratch = near_tls;
   double e[kPoints][3];
   for (int i0 = 0; i0 < count; i0 += kPoints) {
     const int np = std::min(kPoints, count - i0);
-    for (int i = 0; i < np; ++i) e[i][0] = e[i][1] = e[i][2] = 0;
+    for (int i = 0; i < np; ++i) {
+      e[i][0] = e[i][1] = e[i][2] = 0;
+      candidates[i].clear();
+    }
     for (int B : fmm_.near_[leaf]) {
       const Span& s = spans_[span_of_cell_[B]];
       for (int i = 0; i < np; ++i) {
-        const Vec3 xi = x[i0 + i];
-        double* near_i = nearest ? &nearest[i0 + i] : nullptr;
         float xf[3];
-        to_float(xi - s.mc, xf);
+        to_float(x[i0 + i] - s.mc, xf);
         for (int g0 = 0; g0 < s.groups; g0 += kGroups) {
           const int ng = std::min(kGroups, s.groups - g0);
           tracer::span_field(&blocks_[s.block + static_cast<size_t>(g0) * gf], ng, m, xf, e[i], bits);
           for (int g = 0; g < ng; ++g)
             for (unsigned b = bits[g]; b != 0; b &= b - 1)
-              near_candidate(s.first + (g0 + g) * tracer::kLanes + __builtin_ctz(b), xi, e[i], near_i,
-                             batches[i]);
+              candidates[i].push_back(s.first + (g0 + g) * tracer::kLanes + __builtin_ctz(b));
         }
       }
     }
     for (int i = 0; i < np; ++i) {
+      near_candidates(candidates[i].data(), static_cast<int>(candidates[i].size()), x[i0 + i], e[i],
+                      nearest ? &nearest[i0 + i] : nullptr, batches[i], near_scratch);
       batches[i].flush(e[i]);
       E[i0 + i] += Vec3{e[i][0], e[i][1], e[i][2]};
     }
   }
 }
 
-void TracerField::near_candidate(int k, Vec3 x, double* e, double* nearest, RuleBatch& batch) const {
-  const NearTriangle& t = near_tris_[k];
-  const double q = tri_charge_[k];
-  const double d2 = norm2(x - t.centroid);
-  if (!(d2 < t.near2)) {
-    // A float candidate the double test rejects: its own quadrature points.
-    const size_t p0 = static_cast<size_t>(k) * m_;
-    const Vec3 ej = scalar_sum(&fmm_.points_[p0], &pq_[p0], m_, x);
-    e[0] += ej.x;
-    e[1] += ej.y;
-    e[2] += ej.z;
+void TracerField::near_candidates(const int* ks, int n, Vec3 x, double* e, double* nearest, RuleBatch& batch,
+                                  std::vector<std::pair<int, double>>& near) const {
+  near.clear();
+  double closest_centroid2 = std::numeric_limits<double>::infinity();
+  int closest = -1;
+  const bool split_band = kSplitFactor < fmm_.src_.closed_factor;
+  for (int c = 0; c < n; ++c) {
+    const int k = ks[c];
+    const NearTest& t = near_test_[k];
+    const double q = tri_charge_[k];
+    const double d2 = norm2(x - t.centroid);
+    if (!(d2 < t.near2)) {
+      // A float candidate the double test rejects: its own quadrature points.
+      const size_t p0 = static_cast<size_t>(k) * m_;
+      const Vec3 ej = scalar_sum(&fmm_.points_[p0], &pq_[p0], m_, x);
+      e[0] += ej.x;
+      e[1] += ej.y;
+      e[2] += ej.z;
+      continue;
+    }
+    if (!t.has_area) continue;
+    const NearTriangle& tri = near_tris_[k];
+    const double r = t.radius;
+    if (!(d2 < t.closed2) || (split_band && d2 >= kSplitFactor * kSplitFactor * r * r)) {
+      batch.add(!(d2 < t.closed2), x, tri.frame, q, e);
+    } else {
+      const Vec3 f = (q / tri.area) * tracer::closed_form_field(tri.frame, x);
+      e[0] += f.x;
+      e[1] += f.y;
+      e[2] += f.z;
+    }
+    if (!nearest) continue;
+    near.push_back({k, d2});
+    if (d2 < closest_centroid2) {
+      closest_centroid2 = d2;
+      closest = static_cast<int>(near.size()) - 1;
+    }
+  }
+  if (!nearest) return;
+  double best = std::numeric_limits<double>::infinity();
+  if (closest < 0) {
+    *nearest = best;
     return;
   }
-  if (!(t.area > 0)) return;
-  const double r = t.radius;
-  if (!(d2 < t.closed2) || (d2 >= kSplitFactor * kSplitFactor * r * r && kSplitFactor < fmm_.src_.closed_factor)) {
-    batch.add(!(d2 < t.closed2), x, t.frame, q, e);
-  } else {
-    const Vec3 f = (q / t.area) * tracer::closed_form_field(t.frame, x);
-    e[0] += f.x;
-    e[1] += f.y;
-    e[2] += f.z;
+  // The centroid lies in its triangle, so the triangle with the nearest
+  // centroid bounds the distance from above; every point of a triangle lies
+  // within radius of its centroid, so |x - centroid| - radius bounds its
+  // distance from below: most near triangles cannot beat the bound.
+  auto distance = [&](int k) {
+    const tracer::TriangleFrame& f = near_tris_[k].frame;
+    return point_triangle_distance(f.v[0], f.v[1], f.v[2], x);
+  };
+  best = distance(near[closest].first);
+  for (size_t c = 0; c < near.size(); ++c) {
+    if (static_cast<int>(c) == closest) continue;
+    const auto [k, d2] = near[c];
+    if (std::sqrt(d2) - near_test_[k].radius < best) best = std::min(best, distance(k));
   }
-  // Every point of the triangle lies within radius of its centroid, so
-  // |x - centroid| - radius bounds the distance from below: most near
-  // triangles cannot beat the nearest so far.
-  if (nearest && std::sqrt(d2) - r < *nearest)
-    *nearest = std::min(*nearest, point_triangle_distance(t.frame.v[0], t.frame.v[1], t.frame.v[2], x));
+  *nearest = best;
 }
 
 size_t TracerField::memory_bytes() const {
   return (pq_.size() + tri_charge_.size() + M_.size() + L_.size() + G_.size()) * sizeof(double) +
-         near_tris_.size() * sizeof(NearTriangle) +
+         near_tris_.size() * (sizeof(NearTriangle) + sizeof(NearTest)) +
          blocks_.size() * sizeof(float) + (span_of_cell_.size() + slot_.size()) * sizeof(int) +
          spans_.size() * sizeof(Span);
 }

@@ -37,6 +37,7 @@
 
 #include <cstddef>
 #include <memory>
+#include <utility>
 #include <vector>
 
 #include "soupuv/field/fmm.h"
@@ -85,12 +86,16 @@ class TracerField {
     size_t block = 0;
   };
 
-  // A triangle (tree position k) the float kernel flagged as possibly near
-  // x: adds its field at x to e[0..3) by the model's rule (float rules via
-  // `batch`, summed when the caller flushes it) and lowers *nearest (if
-  // given) to its distance when it is near.
+  // The triangles (tree positions ks[0..n)) the float kernel flagged as
+  // possibly near x: adds their field at x to e[0..3) by the model's rule
+  // (float rules via `batch`, summed when the caller flushes it) and, if
+  // `nearest` is given, sets *nearest to the distance to the nearest of them
+  // that is near (infinity if none). All candidates of a point at once: the
+  // nearest triangle is searched last, from the one with the nearest
+  // centroid, so few point-triangle distances are computed. `near`: scratch.
   struct RuleBatch;  // tracer_field.cpp
-  void near_candidate(int k, Vec3 x, double* e, double* nearest, RuleBatch& batch) const;
+  void near_candidates(const int* ks, int n, Vec3 x, double* e, double* nearest, RuleBatch& batch,
+                       std::vector<std::pair<int, double>>& near) const;
   // Field and nearest near triangle at a point outside the target tree.
   void field_outside(Vec3 x, Vec3* E, double* nearest) const;
   void upward_pass();
@@ -102,6 +107,8 @@ class TracerField {
   std::vector<double> tri_charge_;         // per triangle, tree order
   struct NearTriangle;                     // tracer_field.cpp
   std::vector<NearTriangle> near_tris_;    // per triangle, tree order
+  struct NearTest;                         // tracer_field.cpp
+  std::vector<NearTest> near_test_;        // per triangle, tree order: what classifying a candidate reads
   std::vector<int> span_of_cell_;          // source cell -> index into spans_ (-1: not a leaf)
   std::vector<Span> spans_;
   int threads_;
