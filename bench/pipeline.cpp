@@ -1,4 +1,4 @@
-// soupuv-bench pipeline [--quick] [--only NAME|samples|torus-100k] [--offset F]:
+// soupuv-bench pipeline [--quick] [--only NAME|samples|torus-100k] [--offset F] [switches]:
 // the whole mapping job, field method vs the box baseline side by side.
 //
 //   --only samples    one row per sample (kind "sample"): the shared noisy
@@ -15,6 +15,8 @@
 //                     per-corner UV shift in texels and both sets of figures.
 //   default           every sample, then torus-100k. --quick (CI, about a
 //                     minute): one small sphere with a fixed offset.
+//   --seed-weld-corners, --no-reweld, --strict-retry F: the continuity
+//                     levers off (session 5's pipeline: all three, F = 1.2).
 //
 // Rows carry seconds (wall) and cpu_seconds (process user + sys during the
 // run; the machine may be shared), per-stage seconds, threads, peak_rss_mb,
@@ -155,8 +157,21 @@ nlohmann::json row(const Input& in, const std::string& method, const Timed& run)
   return r;
 }
 
+// The CLI's switches for the continuity levers, so one binary can A/B them:
+// --seed-weld-corners (seeds welded by position alone), --no-reweld,
+// --strict-retry F (session 5: all three, F = 1.2).
+void apply_switches(const bench::Args& args, MapOptions& o) {
+  for (size_t i = 0; i < args.rest.size(); ++i) {
+    if (args.rest[i] == "--seed-weld-corners") o.seed_weld_by_edges = false;
+    if (args.rest[i] == "--no-reweld") o.uv_reweld = false;
+    if (args.rest[i] == "--strict-retry" && i + 1 < args.rest.size())
+      o.repair_strict_retry = std::stod(args.rest[i + 1]);
+  }
+}
+
 MapOptions base_options(const Input& in, const bench::Args& args, double offset, bool repair) {
   MapOptions o;
+  apply_switches(args, o);
   o.original = in.has_original ? &in.original : nullptr;
   o.uv_repair = repair;
   if (args.quick || offset > 0) {

@@ -83,10 +83,19 @@ Usage:
                              to the repair's usual rules
       --strict-retry F       after failed repair patches, repair again on an edge
                              weld that leaves an edge unmatched when its second-best
-                             partner is within F x its best (1.2; trades a
+                             partner is within F x its best (1.05; trades a
                              little continuity for flips; --no-strict-retry: off)
       --weld-corners         §8 neighbours and the repair weld corners by position
                              (--weld-tolerance) instead of matching edges
+      --seed-weld-corners    shared field lines start from copies welded by
+                             position alone (default: matched edges, then position)
+      --repair-weld-lines    the repair moves each shared line's copies as one UV
+                             vertex (default: the matched-edge weld's vertices)
+      --no-reweld            leave copies of one field line that the repair put
+                             at different UVs on one chart apart (by default they
+                             are joined again where nothing folds)
+      --reweld-density E     ... a joined triangle's symmetric Dirichlet energy
+                             per area may reach E (8; 4 = isometric)
       --no-refine-intersections  --no-orient  --no-share-lines  --no-chart-fix
       --no-chart-neighbours
 

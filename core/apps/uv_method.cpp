@@ -171,6 +171,15 @@ bool parse_method_flag(const std::vector<std::string>& args, size_t& i, MethodFl
     o.repair_strict_retry = number(a, value());
   } else if (a == "--weld-corners") {
     o.weld_by_edges = false;
+  } else if (a == "--seed-weld-corners") {
+    o.seed_weld_by_edges = false;
+  } else if (a == "--repair-weld-lines") {
+    o.repair_weld_lines = true;
+  } else if (a == "--no-reweld") {
+    o.uv_reweld = false;
+  } else if (a == "--reweld-density") {
+    o.reweld.max_energy_density = number(a, value());
+    if (!(o.reweld.max_energy_density >= 4)) throw UsageError{"--reweld-density needs a value >= 4"};
   } else if (a == "--repair-stretch") {
     o.repair.stretch_threshold = number(a, value());
     if (!(o.repair.stretch_threshold > 1)) throw UsageError{"--repair-stretch needs a factor > 1"};

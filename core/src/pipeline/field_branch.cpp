@@ -47,7 +47,8 @@ std::string trace_params(const FieldBranchOptions& b, const field::TraceOptions&
     << "," << o.stop_box.hi.z << " p=" << o.fmm_order
     << " theta=" << o.fmm_theta << " keep=" << o.keep_points << " adaptive=" << o.adaptive_step
     << " direct=" << o.direct << " leaf=" << o.fmm_leaf_size << " trapped=" << o.trapped_steps << " probes=" << b.trace_cut_probes << " orient=" << b.orient_sides << " share=" << b.share_lines
-    << " weld=" << b.weld_tolerance << " edge=" << b.weld_edge_fraction;
+    << " weld=" << b.weld_tolerance << " edge=" << b.weld_edge_fraction
+    << " seed_edges=" << b.seed_edge_weld_tolerance;
   return s.str();
 }
 
@@ -122,7 +123,10 @@ void trace_shared(const Soup& soup, const field::ChargeResult& charges,
                   const field::TraceOptions& trace_options, const FieldBranchOptions& options,
                   Progress& progress, FieldBranchResult& r) {
   const quality::Weld weld =
-      quality::weld_corners(soup, options.weld_tolerance, options.weld_edge_fraction);
+      options.seed_edge_weld_tolerance > 0
+          ? quality::extend_weld(soup, quality::weld_by_edges(soup, options.seed_edge_weld_tolerance),
+                                 options.weld_tolerance, options.weld_edge_fraction)
+          : quality::weld_corners(soup, options.weld_tolerance, options.weld_edge_fraction);
   const auto adjacency = quality::edge_adjacency(weld, soup.triangles.size());
   const transfer::Orientation orientation = transfer::consistent_orientation(soup, adjacency);
   SharedSeeds shared = shared_seeds(soup, weld, orientation);

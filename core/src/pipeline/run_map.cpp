@@ -17,6 +17,7 @@
 #include "soupuv/quality/stretch_tail.h"
 #include "soupuv/quality/uv_metrics.h"
 #include "soupuv/transfer/intersect.h"
+#include "soupuv/transfer/uv_reweld.h"
 
 namespace soupuv {
 
@@ -216,6 +217,7 @@ MapResult run_map(const Soup& soup, const MapOptions& options, Progress& progres
   fo.share_lines = options.share_lines;
   fo.weld_tolerance = options.weld_tolerance * diag;
   fo.weld_edge_fraction = options.weld_edge_fraction;
+  if (options.seed_weld_by_edges) fo.seed_edge_weld_tolerance = options.edge_weld_tolerance * diag;
   fo.threads = field_threads;
   fo.proxy_reach = pipeline::proxy_reach(soup, options.proxy);
 
@@ -306,8 +308,17 @@ MapResult run_map(const Soup& soup, const MapOptions& options, Progress& progres
     }
     transfer::UvRepairOptions ro = options.repair;
     if (options.repair_split_triangles) ro.corner_chart = &corner_chart;
+    // The copies that share a line share a UV: the repair must move them
+    // together, or it cuts the pairs the shared lines made continuous.
+    quality::Weld line_weld;
+    if (field.line_of_corner.size() == 3 * soup.triangles.size()) {
+      line_weld.corner_vertex = field.line_of_corner;
+      line_weld.vertex_count = uint32_t(field.lines.size());
+    }
+    const quality::Weld& repair_weld =
+        options.repair_weld_lines && !line_weld.corner_vertex.empty() ? line_weld : weld;
     transfer::UvRepairResult rep = transfer::repair_uvs(
-        soup, weld, chart, pb.atlas.atlas.uv_per_length, tr.corner_uvs, ro, progress);
+        soup, repair_weld, chart, pb.atlas.atlas.uv_per_length, tr.corner_uvs, ro, progress);
     seconds_repair = rep.seconds;
     repair_json.update(rep.diagnostics());
     // Patches that failed mostly sit where the weld joined distinct vertices
@@ -324,6 +335,15 @@ MapResult run_map(const Soup& soup, const MapOptions& options, Progress& progres
       seconds_repair += again.seconds;
       repair_json["strict_retry"] = again.diagnostics();
     }
+    // Copies the repair left apart on one chart go back to one UV where that
+    // folds nothing (transfer/uv_reweld.h).
+    if (options.uv_reweld) {
+      const transfer::UvReweldResult rw = transfer::reweld_uvs(
+          soup, line_weld.corner_vertex.empty() ? weld : line_weld, chart,
+          pb.atlas.atlas.uv_per_length, tr.corner_uvs, options.reweld);
+      seconds_repair += rw.seconds;
+      repair_json["reweld"] = rw.diagnostics();
+    }
     repair_json["before"] = {{"flipped_fraction", before.flipped_fraction},
                              {"stretch_l2", before.stretch_l2},
                              {"stretch_median", before.stretch_median},
@@ -336,10 +356,19 @@ MapResult run_map(const Soup& soup, const MapOptions& options, Progress& progres
   }
   quality::UvMetrics m = measure(soup, tr.corner_uvs, adjacency, options,
                                  pb.atlas.atlas.uv_per_length, metric_seconds);
-  quality::CornerLanding landed{tr.missed, tr.first_chart, {}};
+  quality::CornerLanding landed;
+  landed.missed = tr.missed;
+  landed.first_chart = tr.first_chart;
   landed.final_chart.resize(tr.landing.size());
   for (size_t c = 0; c < tr.landing.size(); ++c)
     landed.final_chart[c] = pb.atlas.atlas.face_chart[tr.landing[c].face];
+  if (!field.line_of_corner.empty()) landed.line = field.line_of_corner;
+  else {
+    landed.line.assign(3 * soup.triangles.size(), UINT32_MAX);
+    for (size_t l = 0; l < field.lines.size(); ++l)
+      if (field.lines.corner[l] < landed.line.size()) landed.line[field.lines.corner[l]] = uint32_t(l);
+  }
+  landed.before_repair = unrepaired;
   const quality::DiscontinuityBreakdown causes = quality::discontinuity_breakdown(
       soup, tr.corner_uvs, adjacency, landed, options.metrics_texture_size, m.uv_per_length);
   const quality::StretchTail tail = quality::stretch_tail(

@@ -12,6 +12,9 @@ nlohmann::json DiscontinuityBreakdown::to_json() const {
           {"split_charts", split},
           {"chart_correction", corrected},
           {"diverged", diverged},
+          {"diverged_by_repair", diverged_by_repair},
+          {"diverged_apart_lines", diverged_apart_lines},
+          {"diverged_one_line", diverged_one_line},
           {"flipped", flipped},
           {"flipped_one_chart", flipped_one_chart},
           {"flipped_other", flipped_other},
@@ -38,25 +41,37 @@ DiscontinuityBreakdown discontinuity_breakdown(const Soup& soup, const CornerUvs
   DiscontinuityBreakdown b;
   b.pairs = adjacency.size();
   const double texel = 1.0 / texture_size;
+  const bool know_lines = landing.line.size() == 3 * uvs.size();
+  const bool know_before = landing.before_repair.size() == uvs.size();
   for (const AdjacentPair& p : adjacency) {
-    bool apart = false, missed = false, split = false, corrected = false;
+    bool apart = false, apart_before = false, missed = false, split = false, corrected = false,
+         two_lines = false;
     for (int i = 0; i < 2; ++i) {
       const size_t ca = 3 * size_t(p.a) + p.a_corner[i], cb = 3 * size_t(p.b) + p.b_corner[i];
-      const double d_uv = norm(uvs[p.a][p.a_corner[i]] - uvs[p.b][p.b_corner[i]]);
       const double d_3d = norm(soup.corner(p.a, p.a_corner[i]) - soup.corner(p.b, p.b_corner[i]));
       // The same test as uv_metrics' noise-aware continuity.
-      if (!(d_uv <= texel + 2 * d_3d * uv_per_length)) apart = true;
+      auto cut = [&](const CornerUvs& u) {
+        return !(norm(u[p.a][p.a_corner[i]] - u[p.b][p.b_corner[i]]) <= texel + 2 * d_3d * uv_per_length);
+      };
+      apart |= cut(uvs);
+      if (know_before) apart_before |= cut(landing.before_repair);
       missed |= landing.missed[ca] || landing.missed[cb];
       split |= landing.first_chart[ca] != landing.first_chart[cb];
       corrected |= landing.final_chart[ca] != landing.first_chart[ca] ||
                    landing.final_chart[cb] != landing.first_chart[cb];
+      if (know_lines) two_lines |= landing.line[ca] != landing.line[cb];
     }
     if (!apart) continue;
     ++b.discontinuous;
     if (missed) ++b.missed;
     else if (split) ++b.split;
     else if (corrected) ++b.corrected;
-    else ++b.diverged;
+    else {
+      ++b.diverged;
+      if (know_before && !apart_before) ++b.diverged_by_repair;
+      else if (two_lines) ++b.diverged_apart_lines;
+      else if (know_lines) ++b.diverged_one_line;
+    }
   }
   // Flips against the dominant orientation, as uv_metrics counts them.
   double oriented = 0;

@@ -10,7 +10,11 @@
 
 namespace soupuv::quality {
 
-Weld weld_corners(const Soup& soup, double tolerance, double edge_fraction) {
+namespace {
+
+// weld_corners, starting from the groups of `start` (nullptr: every corner alone).
+Weld weld_corners_from(const Soup& soup, double tolerance, double edge_fraction,
+                       const Weld* start) {
   const size_t corners = soup.triangles.size() * 3;
   Weld w;
   if (corners == 0) return w;
@@ -65,6 +69,21 @@ Weld weld_corners(const Soup& soup, double tolerance, double edge_fraction) {
             [](const Candidate& x, const Candidate& y) { return x.d2 < y.d2; });
   std::vector<std::vector<uint32_t>> members(corners);  // triangles per root
   for (size_t c = 0; c < corners; ++c) members[c] = {uint32_t(c / 3)};
+  auto join = [&](uint32_t ra, uint32_t rb) {
+    uf.unite(ra, rb);
+    uint32_t root = uf.find(ra), other = root == ra ? rb : ra;
+    members[root].insert(members[root].end(), members[other].begin(), members[other].end());
+    members[other].clear();
+    members[other].shrink_to_fit();
+  };
+  if (start && start->corner_vertex.size() == corners) {
+    std::vector<uint32_t> first(start->vertex_count, UINT32_MAX);
+    for (uint32_t c = 0; c < corners; ++c) {
+      uint32_t& f = first[start->corner_vertex[c]];
+      if (f == UINT32_MAX) f = c;
+      else if (uf.find(f) != uf.find(c)) join(uf.find(f), uf.find(c));
+    }
+  }
   for (const Candidate& k : candidates) {
     uint32_t ra = uf.find(k.a), rb = uf.find(k.b);
     if (ra == rb) continue;
@@ -74,11 +93,7 @@ Weld weld_corners(const Soup& soup, double tolerance, double edge_fraction) {
     for (uint32_t t : ma)
       for (uint32_t u : mb) shared |= t == u;
     if (shared) continue;
-    uf.unite(ra, rb);
-    uint32_t root = uf.find(ra), other = root == ra ? rb : ra;
-    members[root].insert(members[root].end(), members[other].begin(), members[other].end());
-    members[other].clear();
-    members[other].shrink_to_fit();
+    join(ra, rb);
   }
 
   w.corner_vertex.resize(corners);
@@ -89,6 +104,16 @@ Weld weld_corners(const Soup& soup, double tolerance, double edge_fraction) {
     w.corner_vertex[c] = id[r];
   }
   return w;
+}
+
+}  // namespace
+
+Weld weld_corners(const Soup& soup, double tolerance, double edge_fraction) {
+  return weld_corners_from(soup, tolerance, edge_fraction, nullptr);
+}
+
+Weld extend_weld(const Soup& soup, const Weld& start, double tolerance, double edge_fraction) {
+  return weld_corners_from(soup, tolerance, edge_fraction, &start);
 }
 
 std::vector<AdjacentPair> edge_adjacency(const Weld& weld, size_t triangle_count) {

@@ -11,6 +11,7 @@
 #include "soupuv/union_find.h"
 #include "transfer/sym_dirichlet.h"
 #include "transfer/untangle_energy.h"
+#include "transfer/uv_vertices.h"
 
 namespace soupuv::transfer {
 
@@ -33,6 +34,8 @@ nlohmann::json UvRepairResult::diagnostics() const {
 namespace {
 
 using detail::RestTriangle;
+using detail::UvVertices;
+using detail::uv_vertices;
 constexpr double kInf = std::numeric_limits<double>::infinity();
 constexpr uint32_t kFixed = UINT32_MAX;
 constexpr double kMinAreaRatio = 1e-3;
@@ -40,34 +43,6 @@ constexpr double kMinAreaRatio = 1e-3;
 double signed_area2(const std::array<Vec2, 3>& uv) { return cross(uv[1] - uv[0], uv[2] - uv[0]); }
 
 bool in_unit_square(Vec2 p) { return p.x >= 0 && p.x <= 1 && p.y >= 0 && p.y <= 1; }
-
-// The UV vertices: one per (welded vertex, chart), with the corners that use
-// each (CSR), so a patch can find every triangle around a vertex.
-struct UvVertices {
-  std::vector<uint32_t> of_corner;  // corner -> UV vertex
-  std::vector<uint32_t> start, corners;
-  size_t count() const { return start.size() - 1; }
-};
-
-UvVertices uv_vertices(const quality::Weld& weld, const std::vector<int>& triangle_chart) {
-  UvVertices v;
-  const size_t corners = weld.corner_vertex.size();
-  v.of_corner.resize(corners);
-  std::unordered_map<uint64_t, uint32_t> id;
-  id.reserve(corners);
-  for (size_t c = 0; c < corners; ++c) {
-    const uint64_t key = (uint64_t(weld.corner_vertex[c]) << 32) | uint32_t(triangle_chart[c / 3]);
-    auto [it, fresh] = id.try_emplace(key, uint32_t(id.size()));
-    v.of_corner[c] = it->second;
-  }
-  v.start.assign(id.size() + 1, 0);
-  for (uint32_t u : v.of_corner) ++v.start[u + 1];
-  std::partial_sum(v.start.begin(), v.start.end(), v.start.begin());
-  std::vector<uint32_t> fill(v.start.begin(), v.start.end() - 1);
-  v.corners.resize(corners);
-  for (size_t c = 0; c < corners; ++c) v.corners[fill[v.of_corner[c]]++] = uint32_t(c);
-  return v;
-}
 
 // Which triangles need repair (see UvRepairOptions).
 std::vector<uint8_t> find_bad(const std::vector<RestTriangle>& rest,

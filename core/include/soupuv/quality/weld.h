@@ -42,6 +42,14 @@ Weld weld_corners(const Soup& soup, double tolerance, double edge_fraction = 0);
 // triangle stay unwelded.
 Weld weld_by_edges(const Soup& soup, double tolerance, double ambiguity_ratio = 1);
 
+// weld_corners, but starting from the groups of `start` (a weld of the same
+// soup, e.g. weld_by_edges): its groups stay joined, and further corners join
+// them nearest pair first under the same rules. Where the edge weld left
+// copies of a vertex apart (an edge with no clear partner), distance still
+// joins them; where it did join, distance cannot split. A start group that
+// already holds two corners of one triangle stays as it is.
+Weld extend_weld(const Soup& soup, const Weld& start, double tolerance, double edge_fraction = 0);
+
 // Two triangles that share an edge: corner a_corner[i] of triangle a and
 // corner b_corner[i] of triangle b are the same welded vertex (i = 0, 1).
 struct AdjacentPair {
