@@ -230,7 +230,7 @@ void TracerField::prepare(const std::vector<int>& leaves) {
         moments[k] = &M_[static_cast<size_t>(sources[k]) * ncoef_];
         offsets[k] = cell.center - fmm_.scells_[sources[k]].mc;
       }
-      m2l_->apply(moments.data(), offsets.data(), static_cast<int>(sources.size()), L);
+      m2l_->apply_float(moments.data(), offsets.data(), static_cast<int>(sources.size()), L);
       ops += sources.size();
       field_expansion_->from_local(L, &G_[static_cast<size_t>(slot_[c]) * gsize]);
     }

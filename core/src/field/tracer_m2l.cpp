@@ -14,6 +14,7 @@ namespace soupuv::field::tracer {
 namespace {
 
 typedef double v4d __attribute__((vector_size(32)));
+typedef float v8f __attribute__((vector_size(32)));
 
 // Lanes of a partial last group: no moments, and an offset that keeps the
 // recurrence finite (0 * finite stays 0).
@@ -145,6 +146,73 @@ void apply_generic(const Tables& t, const double* const* M, const Vec3* R, int c
   apply_body(t, M, R, count, L, k, mt, acc);
 }
 
+// apply_body in float, eight lanes (see BatchM2L::apply_float). k: n + 1
+// vectors (the last one stays 0), mt: n vectors, acc: n vectors.
+__attribute__((always_inline)) inline void apply_body_float(const Tables& t, const double* const* M, const Vec3* R,
+                                                            int count, double* L, v8f* k, v8f* mt, v8f* acc) {
+  const int n = t.n;
+  for (int b = 0; b < n; ++b) acc[b] = v8f{0, 0, 0, 0, 0, 0, 0, 0};
+  k[n] = v8f{0, 0, 0, 0, 0, 0, 0, 0};
+  for (int g = 0; g < count; g += 8) {
+    const int lanes = count - g < 8 ? count - g : 8;
+    v8f rx, ry, rz, inv_r2;
+    const double* m[8];
+    for (int l = 0; l < 8; ++l) {
+      const bool real = l < lanes;
+      const Vec3 r = real ? R[g + l] : Vec3{kPadOffset, 0, 0};
+      rx[l] = static_cast<float>(r.x);
+      ry[l] = static_cast<float>(r.y);
+      rz[l] = static_cast<float>(r.z);
+      const double r2 = r.x * r.x + r.y * r.y + r.z * r.z;
+      inv_r2[l] = static_cast<float>(1.0 / r2);
+      k[0][l] = static_cast<float>(1.0 / std::sqrt(r2));
+      m[l] = real ? M[g + l] : nullptr;
+    }
+    for (int a = 1; a < n; ++a) {
+      const int* i1 = t.m1 + 3 * a;
+      const int* i2 = t.m2 + 3 * a;
+      const v8f s1 = rx * k[i1[0]] + ry * k[i1[1]] + rz * k[i1[2]];
+      const v8f s2 = k[i2[0]] + k[i2[1]] + k[i2[2]];
+      k[a] = (static_cast<float>(t.c1[a]) * s1 - static_cast<float>(t.c2[a]) * s2) * inv_r2;
+    }
+    for (int a = 0; a < n; ++a) {
+      k[a] *= static_cast<float>(t.factorial[a]);
+      for (int l = 0; l < 8; ++l) mt[a][l] = m[l] ? static_cast<float>(m[l][a] * t.inv_factorial[a]) : 0.0f;
+    }
+    for (int b = 0; b < n; ++b) {
+      const int* pw = t.power + t.start[b];
+      const int na = t.start[b + 1] - t.start[b];
+      v8f s0 = {0, 0, 0, 0, 0, 0, 0, 0}, s1 = s0, s2 = s0, s3 = s0;
+      int a = 0;
+      for (; a + 4 <= na; a += 4) {
+        s0 += k[pw[a]] * mt[a];
+        s1 += k[pw[a + 1]] * mt[a + 1];
+        s2 += k[pw[a + 2]] * mt[a + 2];
+        s3 += k[pw[a + 3]] * mt[a + 3];
+      }
+      for (; a < na; ++a) s0 += k[pw[a]] * mt[a];
+      acc[b] += (s0 + s1) + (s2 + s3);
+    }
+  }
+  for (int b = 0; b < n; ++b) {
+    double sum = 0;
+    for (int l = 0; l < 8; ++l) sum += acc[b][l];
+    L[b] += t.out_scale[b] * sum;
+  }
+}
+
+#if defined(__x86_64__) && defined(__GNUC__)
+__attribute__((target("avx2,fma"))) void apply_float_avx2(const Tables& t, const double* const* M, const Vec3* R,
+                                                           int count, double* L, v8f* k, v8f* mt, v8f* acc) {
+  apply_body_float(t, M, R, count, L, k, mt, acc);
+}
+#endif
+
+void apply_float_generic(const Tables& t, const double* const* M, const Vec3* R, int count, double* L, v8f* k,
+                         v8f* mt, v8f* acc) {
+  apply_body_float(t, M, R, count, L, k, mt, acc);
+}
+
 }  // namespace
 
 void BatchM2L::apply(const double* const* M, const Vec3* R, int count, double* L) const {
@@ -172,6 +240,29 @@ void BatchM2L::apply(const double* const* M, const Vec3* R, int count, double* L
   if (kHasAvx2) return apply_avx2(t, M, R, count, L, k, mt, acc);
 #endif
   apply_generic(t, M, R, count, L, k, mt, acc);
+}
+
+void BatchM2L::apply_float(const double* const* M, const Vec3* R, int count, double* L) const {
+  if (count <= 0) return;
+  const Tables t{n_,
+                 m1_.data(),
+                 m2_.data(),
+                 start_.data(),
+                 power_.data(),
+                 c1_.data(),
+                 c2_.data(),
+                 factorial_.data(),
+                 inv_factorial_.data(),
+                 out_scale_.data()};
+  std::vector<float> scratch(8 * (3 * static_cast<size_t>(n_) + 1) + 8);
+  const auto base = reinterpret_cast<uintptr_t>(scratch.data());
+  v8f* k = reinterpret_cast<v8f*>((base + 31) & ~uintptr_t{31});
+  v8f* mt = k + n_ + 1;
+  v8f* acc = mt + n_;
+#if defined(__x86_64__) && defined(__GNUC__)
+  if (kHasAvx2) return apply_float_avx2(t, M, R, count, L, k, mt, acc);
+#endif
+  apply_float_generic(t, M, R, count, L, k, mt, acc);
 }
 
 }  // namespace soupuv::field::tracer

@@ -30,6 +30,10 @@ class BatchM2L {
 
   // L += sum_i M2L(M[i], R[i]). R[i] must be non-zero (well separated cells).
   void apply(const double* const* M, const Vec3* R, int count, double* L) const;
+  // The same in single precision, eight sources per pass (L still summed
+  // in double over the passes): for the tracer, whose field target (1e-4
+  // rel.) is far above float rounding; not for the charge solve.
+  void apply_float(const double* const* M, const Vec3* R, int count, double* L) const;
 
   int size() const { return n_; }
 
