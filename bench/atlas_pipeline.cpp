@@ -9,7 +9,9 @@
 //                        bunny-drc); default: all but the two bunnies.
 //   --variant NAME:K=V,K=V   an atlas variant on top of map_atlas_defaults()
 //                        (repeatable; default: the pipeline's atlas alone).
-//                        Keys: angle (max_normal_deviation_deg), stretch
+//                        Keys: angle (max_normal_deviation_deg), alt_angle
+//                        (appends to alternative_normal_deviations_deg;
+//                        repeatable), no_alt_angles (clears them), stretch
 //                        (max_stretch), merge (0/1), merge_crease,
 //                        merge_area, merge_fill, merge_cone
 //                        (merge_max_normal_deviation_deg), pack_splits,
@@ -83,6 +85,8 @@ Variant parse_variant(const std::string& text) {
     const double value = std::stod(item.substr(eq + 1));
     atlas::AtlasOptions& a = v.atlas;
     if (key == "angle") a.max_normal_deviation_deg = value;
+    else if (key == "alt_angle") a.alternative_normal_deviations_deg.push_back(value);
+    else if (key == "no_alt_angles") a.alternative_normal_deviations_deg.clear();
     else if (key == "stretch") a.max_stretch = value;
     else if (key == "merge") a.merge_charts = value != 0;
     else if (key == "merge_crease") a.merge_crease_deg = value;
@@ -247,6 +251,7 @@ int run_atlas_pipeline(const bench::Args& args) {
                             {"seam_cost_before_relax", a["seam_cost_before_relax"]},
                             {"seam_cost", a["seam_cost"]},
                             {"relaxed_pairs", a["relaxed_pairs"]},
+                            {"segment_angle_deg", a["segment_angle_deg"]},
                             {"atlas_seconds", a["seconds"]},
                             {"seconds", seconds},
                             {"cpu_seconds", cpu_seconds() - c0},

@@ -1,6 +1,7 @@
 // build_atlas: the atlas stage's driver (see soupuv/atlas/build_atlas.h):
 // seams -> segmentation -> per-chart disk check and flattening, splitting what
-// fails -> packing -> diagnostics.
+// fails -> merging, relaxation -> packing -> diagnostics; everything after the
+// seams once per segmentation budget tried (the cheapest seams win).
 #include "soupuv/atlas/build_atlas.h"
 
 #include <chrono>
@@ -45,6 +46,8 @@ nlohmann::json AtlasResult::diagnostics() const {
           {"splits", s.splits},
           {"packing_splits", s.packing_splits},
           {"chart_merges", s.chart_merges},
+          {"segment_angle_deg", s.segment_angle_deg},
+          {"segment_budgets_tried", s.segment_budgets_tried},
           {"seam_edges", s.seam_edges},
           {"seam_length", s.seam_length},
           {"seam_length_relative", s.seam_length_relative},
@@ -66,46 +69,17 @@ nlohmann::json AtlasResult::diagnostics() const {
           {"warnings", s.warnings}};
 }
 
-AtlasResult build_atlas(const TriMesh& mesh, const AtlasOptions& options, Progress& progress) {
+// Everything after the seam hints, for one segmentation budget.
+AtlasResult build_with_budget(const TriMesh& mesh, const MeshTopology& topology, const std::vector<char>& forced,
+                              const AtlasOptions& options, double max_normal_deviation_deg, int threads,
+                              Progress& progress) {
   const auto t0 = Clock::now();
-  const std::clock_t cpu0 = std::clock();
-  if (options.texture_size < 16 || options.texture_size > 65536)
-    throw Error(ErrorCode::invalid_input, "atlas: texture_size must be in [16, 65536]");
-  if (!(options.padding_px >= 0) || options.padding_px > options.texture_size / 4.0)
-    throw Error(ErrorCode::invalid_input, "atlas: padding_px must be in [0, texture_size/4]");
-  if (!(options.max_normal_deviation_deg > 0 && options.max_normal_deviation_deg < 90))
-    throw Error(ErrorCode::invalid_input, "atlas: max_normal_deviation_deg must be in (0, 90)");
-  if (!(options.merge_max_normal_deviation_deg >= 0 && options.merge_max_normal_deviation_deg <= 180))
-    throw Error(ErrorCode::invalid_input, "atlas: merge_max_normal_deviation_deg must be in [0, 180]");
-  if (!(options.max_stretch >= 1))
-    throw Error(ErrorCode::invalid_input, "atlas: max_stretch must be at least 1");
-  if (!options.seam_weight.empty()) {
-    if (options.seam_weight.size() != mesh.faces.size())
-      throw Error(ErrorCode::invalid_input, "atlas: seam_weight needs one weight per face");
-    for (double w : options.seam_weight)
-      if (!(w > 0 && std::isfinite(w)))
-        throw Error(ErrorCode::invalid_input, "atlas: seam weights must be positive and finite");
-  }
-  if (!(options.relax_band > 0))
-    throw Error(ErrorCode::invalid_input, "atlas: relax_band must be positive");
-  const int threads = options.threads > 0 ? options.threads : omp_get_max_threads();
-
   AtlasResult result;
   AtlasDiagnostics& stats = result.stats;
   const int nf = static_cast<int>(mesh.faces.size());
   stats.faces = nf;
-  MeshTopology topology = build_topology(mesh);
-
-  std::vector<char> seam(topology.edge_vertices.size(), 0);
-  SeamPaths paths = trace_seam_hints(mesh, topology, options.seam_hints, options.alpha, options.beta);
-  for (int e : paths.edges) {
-    seam[e] = 1;
-    result.forced_seams.push_back(topology.edge_vertices[e]);
-  }
-  stats.seam_edges = static_cast<int>(paths.edges.size());
-  stats.warnings = paths.warnings;
-
-  Segmentation seg = segment_charts(topology, seam, options.max_normal_deviation_deg, progress);
+  std::vector<char> seam = forced;
+  Segmentation seg = segment_charts(topology, seam, max_normal_deviation_deg, progress);
   std::vector<int>& face_chart = seg.face_chart;
   stats.segment_rounds = seg.rounds;
   std::vector<std::vector<int>> pending(seg.count);
@@ -283,9 +257,65 @@ AtlasResult build_atlas(const TriMesh& mesh, const AtlasOptions& options, Progre
   stats.flipped = m.flipped;
   stats.overlap = m.overlap;
   stats.utilization = m.utilization;
+  progress.update("atlas.measure", 1);
+  return result;
+}
+
+AtlasResult build_atlas(const TriMesh& mesh, const AtlasOptions& options, Progress& progress) {
+  const auto t0 = Clock::now();
+  const std::clock_t cpu0 = std::clock();
+  if (options.texture_size < 16 || options.texture_size > 65536)
+    throw Error(ErrorCode::invalid_input, "atlas: texture_size must be in [16, 65536]");
+  if (!(options.padding_px >= 0) || options.padding_px > options.texture_size / 4.0)
+    throw Error(ErrorCode::invalid_input, "atlas: padding_px must be in [0, texture_size/4]");
+  if (!(options.max_normal_deviation_deg > 0 && options.max_normal_deviation_deg < 90))
+    throw Error(ErrorCode::invalid_input, "atlas: max_normal_deviation_deg must be in (0, 90)");
+  if (!(options.merge_max_normal_deviation_deg >= 0 && options.merge_max_normal_deviation_deg <= 180))
+    throw Error(ErrorCode::invalid_input, "atlas: merge_max_normal_deviation_deg must be in [0, 180]");
+  if (!(options.max_stretch >= 1))
+    throw Error(ErrorCode::invalid_input, "atlas: max_stretch must be at least 1");
+  if (!options.seam_weight.empty()) {
+    if (options.seam_weight.size() != mesh.faces.size())
+      throw Error(ErrorCode::invalid_input, "atlas: seam_weight needs one weight per face");
+    for (double w : options.seam_weight)
+      if (!(w > 0 && std::isfinite(w)))
+        throw Error(ErrorCode::invalid_input, "atlas: seam weights must be positive and finite");
+  }
+  if (!(options.relax_band > 0))
+    throw Error(ErrorCode::invalid_input, "atlas: relax_band must be positive");
+  for (double a : options.alternative_normal_deviations_deg)
+    if (!(a > 0 && a < 90))
+      throw Error(ErrorCode::invalid_input, "atlas: alternative_normal_deviations_deg must be in (0, 90)");
+  const int threads = options.threads > 0 ? options.threads : omp_get_max_threads();
+  MeshTopology topology = build_topology(mesh);
+  std::vector<char> seam(topology.edge_vertices.size(), 0);
+  SeamPaths paths = trace_seam_hints(mesh, topology, options.seam_hints, options.alpha, options.beta);
+  for (int e : paths.edges) seam[e] = 1;
+
+  AtlasResult result =
+      build_with_budget(mesh, topology, seam, options, options.max_normal_deviation_deg, threads, progress);
+  result.stats.segment_angle_deg = options.max_normal_deviation_deg;
+  // Other budgets segment differently, and what merging and relaxation make
+  // of a segmentation is hard to foresee; the weighted seam length predicts
+  // the soup pairs the seams cut, so the cheapest atlas wins. Only with
+  // weights: plain seam length says nothing about the soup.
+  int tried = 1;
+  if (!options.seam_weight.empty())
+    for (double angle : options.alternative_normal_deviations_deg) {
+      AtlasResult other = build_with_budget(mesh, topology, seam, options, angle, threads, progress);
+      ++tried;
+      if (other.stats.seam_cost < result.stats.seam_cost) {
+        result = std::move(other);
+        result.stats.segment_angle_deg = angle;
+      }
+    }
+  AtlasDiagnostics& stats = result.stats;
+  stats.segment_budgets_tried = tried;
+  for (int e : paths.edges) result.forced_seams.push_back(topology.edge_vertices[e]);
+  stats.seam_edges = static_cast<int>(paths.edges.size());
+  stats.warnings.insert(stats.warnings.begin(), paths.warnings.begin(), paths.warnings.end());
   stats.seconds = since(t0);
   stats.cpu_seconds = static_cast<double>(std::clock() - cpu0) / CLOCKS_PER_SEC;
-  progress.update("atlas.measure", 1);
   return result;
 }
 

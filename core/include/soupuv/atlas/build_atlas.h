@@ -20,7 +20,9 @@
 // one texel density, rotated to their minimal-area rectangle and packed into
 // [0,1]^2 with padding by a bitmap packer (conservative rasters in 16 turns,
 // lowest fit) and, for few charts, also a column (horizon) packer; the
-// denser layout wins.
+// denser layout wins. With seam weights and alternative segmentation
+// budgets, all of the above runs once per budget and the atlas with the
+// least weighted seam length is kept.
 #pragma once
 
 #include <string>
@@ -50,6 +52,11 @@ struct AtlasOptions {
   // Segmentation budget: largest angle between a face normal and its chart's
   // mean normal (degrees). Smaller gives more, flatter charts.
   double max_normal_deviation_deg = 40.0;
+  // More segmentation budgets to try when seam_weight is given: the whole
+  // atlas is built for each, and the one with the least weighted seam length
+  // (seam_cost) wins (merging and relaxation make different things of each
+  // segmentation; the weighted length predicts the soup pairs cut).
+  std::vector<double> alternative_normal_deviations_deg;
   std::vector<SeamHint> seam_hints;
   // Seam hint cost weights (§6), dimensionless: the alpha (curvature) term is
   // scaled by the mean edge length so it competes with edge lengths, and the
@@ -120,6 +127,8 @@ struct AtlasDiagnostics {
   double overlap = 0;        // texels covered twice / texels covered (raster at texture_size)
   double utilization = 0;    // UV area of all faces / area of [0,1]^2
   int segment_rounds = 0;    // seed-insertion rounds the segmentation took
+  double segment_angle_deg = 0;   // the segmentation budget whose atlas was kept
+  int segment_budgets_tried = 0;  // atlases built (1 + alternatives tried)
   int splits = 0;            // charts split for topology, flips, overlap or stretch
   int packing_splits = 0;    // flattened charts halved to pack tighter
   int chart_merges = 0;      // pairs of neighbouring charts merged after flattening
