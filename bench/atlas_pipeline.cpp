@@ -253,6 +253,9 @@ int run_atlas_pipeline(const bench::Args& args) {
                             {"relaxed_pairs", a["relaxed_pairs"]},
                             {"segment_angle_deg", a["segment_angle_deg"]},
                             {"atlas_seconds", a["seconds"]},
+                            {"atlas_seconds_parts",
+                             {{"segment", a["seconds_segment"]}, {"parameterize", a["seconds_parameterize"]},
+                              {"merge", a["seconds_merge"]}, {"pack", a["seconds_pack"]}}},
                             {"seconds", seconds},
                             {"cpu_seconds", cpu_seconds() - c0},
                             {"field_cached", d["cache"]["hits"].get<double>() > 0}};

@@ -1,7 +1,8 @@
 // build_atlas: the atlas stage's driver (see soupuv/atlas/build_atlas.h):
 // seams -> segmentation -> per-chart disk check and flattening, splitting what
-// fails -> merging, relaxation -> packing -> diagnostics; everything after the
-// seams once per segmentation budget tried (the cheapest seams win).
+// fails -> merging, relaxation -> packing -> diagnostics; the steps between
+// seams and packing once per segmentation budget tried (the cheapest seams
+// are packed).
 #include "soupuv/atlas/build_atlas.h"
 
 #include <chrono>
@@ -69,29 +70,41 @@ nlohmann::json AtlasResult::diagnostics() const {
           {"warnings", s.warnings}};
 }
 
-// Everything after the seam hints, for one segmentation budget.
-AtlasResult build_with_budget(const TriMesh& mesh, const MeshTopology& topology, const std::vector<char>& forced,
-                              const AtlasOptions& options, double max_normal_deviation_deg, int threads,
-                              Progress& progress) {
+// The flattened charts of one segmentation budget, before packing.
+struct Charted {
+  AtlasResult result;              // stats so far
+  std::vector<FlatChart> done;
+  std::vector<int> face_chart;
+  std::vector<int> face_local;
+  int next_id = 0;
+};
+
+// Segmentation, flattening, merging and relaxation for one budget.
+Charted chart_with_budget(const TriMesh& mesh, const MeshTopology& topology, const std::vector<char>& seam,
+                          const AtlasOptions& options, double max_normal_deviation_deg, int threads,
+                          Progress& progress) {
   const auto t0 = Clock::now();
-  AtlasResult result;
-  AtlasDiagnostics& stats = result.stats;
+  Charted charted;
+  AtlasDiagnostics& stats = charted.result.stats;
   const int nf = static_cast<int>(mesh.faces.size());
   stats.faces = nf;
-  std::vector<char> seam = forced;
+  stats.segment_angle_deg = max_normal_deviation_deg;
   Segmentation seg = segment_charts(topology, seam, max_normal_deviation_deg, progress);
-  std::vector<int>& face_chart = seg.face_chart;
+  charted.face_chart = std::move(seg.face_chart);
+  std::vector<int>& face_chart = charted.face_chart;
   stats.segment_rounds = seg.rounds;
   std::vector<std::vector<int>> pending(seg.count);
   for (int f = 0; f < nf; ++f) pending[face_chart[f]].push_back(f);
-  int next_id = seg.count;
+  int& next_id = charted.next_id;
+  next_id = seg.count;
   stats.seconds_segment = since(t0);
 
   // Rounds: flatten every pending chart in parallel; the ones that fail are
   // split and come back in the next round. Halving sizes bound the rounds.
   const auto t1 = Clock::now();
-  std::vector<FlatChart> done;
-  std::vector<int> face_local(nf, -1);
+  std::vector<FlatChart>& done = charted.done;
+  std::vector<int>& face_local = charted.face_local;
+  face_local.assign(nf, -1);
   int faces_done = 0;
   while (!pending.empty()) {
     const int n = static_cast<int>(pending.size());
@@ -160,7 +173,20 @@ AtlasResult build_with_budget(const TriMesh& mesh, const MeshTopology& topology,
     stats.relaxed_pairs = r.pairs_relaxed;
     stats.relaxed_faces = r.faces_moved;
   }
+  stats.seam_cost = weighted_seam_length(topology, face_chart, options.seam_weight);
+  return charted;
+}
 
+// Packing, the Atlas and its diagnostics.
+AtlasResult pack_and_measure(const TriMesh& mesh, const MeshTopology& topology, const std::vector<char>& seam,
+                             const AtlasOptions& options, Charted charted, int threads, Progress& progress) {
+  AtlasResult result = std::move(charted.result);
+  AtlasDiagnostics& stats = result.stats;
+  const int nf = static_cast<int>(mesh.faces.size());
+  std::vector<FlatChart>& done = charted.done;
+  std::vector<int>& face_chart = charted.face_chart;
+  std::vector<int>& face_local = charted.face_local;
+  int& next_id = charted.next_id;
   // Packing rounds: while utilisation stays below the target, the largest
   // charts are halved (their UVs kept) and everything is packed again; the
   // best round wins.
@@ -292,23 +318,21 @@ AtlasResult build_atlas(const TriMesh& mesh, const AtlasOptions& options, Progre
   SeamPaths paths = trace_seam_hints(mesh, topology, options.seam_hints, options.alpha, options.beta);
   for (int e : paths.edges) seam[e] = 1;
 
-  AtlasResult result =
-      build_with_budget(mesh, topology, seam, options, options.max_normal_deviation_deg, threads, progress);
-  result.stats.segment_angle_deg = options.max_normal_deviation_deg;
+  Charted best = chart_with_budget(mesh, topology, seam, options, options.max_normal_deviation_deg, threads, progress);
   // Other budgets segment differently, and what merging and relaxation make
   // of a segmentation is hard to foresee; the weighted seam length predicts
-  // the soup pairs the seams cut, so the cheapest atlas wins. Only with
-  // weights: plain seam length says nothing about the soup.
+  // the soup pairs the seams cut, so the cheapest charts win. Only with
+  // weights: plain seam length says nothing about the soup. Chosen before
+  // packing (most of the atlas's time), which with merged charts never
+  // splits a chart, so the seams chosen are the seams packed.
   int tried = 1;
   if (!options.seam_weight.empty())
     for (double angle : options.alternative_normal_deviations_deg) {
-      AtlasResult other = build_with_budget(mesh, topology, seam, options, angle, threads, progress);
+      Charted other = chart_with_budget(mesh, topology, seam, options, angle, threads, progress);
       ++tried;
-      if (other.stats.seam_cost < result.stats.seam_cost) {
-        result = std::move(other);
-        result.stats.segment_angle_deg = angle;
-      }
+      if (other.result.stats.seam_cost < best.result.stats.seam_cost) best = std::move(other);
     }
+  AtlasResult result = pack_and_measure(mesh, topology, seam, options, std::move(best), threads, progress);
   AtlasDiagnostics& stats = result.stats;
   stats.segment_budgets_tried = tried;
   for (int e : paths.edges) result.forced_seams.push_back(topology.edge_vertices[e]);

@@ -21,8 +21,8 @@
 // [0,1]^2 with padding by a bitmap packer (conservative rasters in 16 turns,
 // lowest fit) and, for few charts, also a column (horizon) packer; the
 // denser layout wins. With seam weights and alternative segmentation
-// budgets, all of the above runs once per budget and the atlas with the
-// least weighted seam length is kept.
+// budgets, everything before the packing runs once per budget and the
+// charts with the least weighted seam length are packed.
 #pragma once
 
 #include <string>
@@ -52,10 +52,11 @@ struct AtlasOptions {
   // Segmentation budget: largest angle between a face normal and its chart's
   // mean normal (degrees). Smaller gives more, flatter charts.
   double max_normal_deviation_deg = 40.0;
-  // More segmentation budgets to try when seam_weight is given: the whole
-  // atlas is built for each, and the one with the least weighted seam length
-  // (seam_cost) wins (merging and relaxation make different things of each
-  // segmentation; the weighted length predicts the soup pairs cut).
+  // More segmentation budgets to try when seam_weight is given: the charts
+  // are built for each (segmentation to relaxation), and the ones with the
+  // least weighted seam length (seam_cost) are packed (merging and
+  // relaxation make different things of each segmentation; the weighted
+  // length predicts the soup pairs cut).
   std::vector<double> alternative_normal_deviations_deg;
   std::vector<SeamHint> seam_hints;
   // Seam hint cost weights (§6), dimensionless: the alpha (curvature) term is
