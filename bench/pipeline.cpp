@@ -15,8 +15,9 @@
 //                     per-corner UV shift in texels and both sets of figures.
 //   default           every sample, then torus-100k. --quick (CI, about a
 //                     minute): one small sphere with a fixed offset.
-//   --seed-weld-corners, --no-reweld, --strict-retry F: the continuity
-//                     levers off (session 5's pipeline: all three, F = 1.2).
+//   --seed-weld-corners, --no-reweld, --strict-retry F, --no-grow-while-bad:
+//                     session 6's levers off (session 5's pipeline: all four,
+//                     F = 1.2).
 //
 // Rows carry seconds (wall) and cpu_seconds (process user + sys during the
 // run; the machine may be shared), per-stage seconds, threads, peak_rss_mb,
@@ -157,13 +158,14 @@ nlohmann::json row(const Input& in, const std::string& method, const Timed& run)
   return r;
 }
 
-// The CLI's switches for the continuity levers, so one binary can A/B them:
+// The CLI's switches for session 6's levers, so one binary can A/B them:
 // --seed-weld-corners (seeds welded by position alone), --no-reweld,
-// --strict-retry F (session 5: all three, F = 1.2).
+// --strict-retry F, --no-grow-while-bad (session 5: all four, F = 1.2).
 void apply_switches(const bench::Args& args, MapOptions& o) {
   for (size_t i = 0; i < args.rest.size(); ++i) {
     if (args.rest[i] == "--seed-weld-corners") o.seed_weld_by_edges = false;
     if (args.rest[i] == "--no-reweld") o.uv_reweld = false;
+    if (args.rest[i] == "--no-grow-while-bad") o.repair.grow_while_bad = false;
     if (args.rest[i] == "--strict-retry" && i + 1 < args.rest.size())
       o.repair_strict_retry = std::stod(args.rest[i + 1]);
   }

@@ -53,6 +53,7 @@ Usage:
                              triangles per proxy face)
       --relax-seams          atlas: relax seams whatever the soup's density
       --merge-fill F         ... and fills at least F of its minimal rectangle (0)
+      --merge-cone DEG       ... and its normals stay within a cone of DEG (120)
       --chart-stretch S      atlas: max L2 stretch of a chart before a split
       --pack-splits N        atlas: rounds of halving charts to pack tighter
       --weld-tolerance F     corners closer than F x diagonal are one vertex
@@ -77,6 +78,9 @@ Usage:
       --repair-stretch F     repair triangles stretched beyond F x the median (2)
       --repair-growth N      rings a repair patch may grow by to find a start (3)
       --no-untangle          repair without the untangling start (Garanzha et al.)
+      --no-grow-while-bad    a repaired patch whose triangles are still badly
+                             stretched keeps its first repair (by default it
+                             grows by up to --repair-growth rings while that helps)
       --no-island-start      repair chart islands (no fixed corner) like other
                              patches, not from one triangle laid down isometrically
       --no-repair-split      leave triangles whose corners landed on two charts

@@ -106,6 +106,10 @@ bool parse_method_flag(const std::vector<std::string>& args, size_t& i, MethodFl
     o.atlas.merge_max_area_fraction = number(a, value());
     if (!(o.atlas.merge_max_area_fraction > 0 && o.atlas.merge_max_area_fraction <= 1))
       throw UsageError{"--merge-area needs a fraction in (0, 1]"};
+  } else if (a == "--merge-cone") {
+    o.atlas.merge_max_normal_deviation_deg = number(a, value());
+    if (!(o.atlas.merge_max_normal_deviation_deg > 0 && o.atlas.merge_max_normal_deviation_deg <= 180))
+      throw UsageError{"--merge-cone needs degrees in (0, 180]"};
   } else if (a == "--merge-fill") {
     o.atlas.merge_min_fill = number(a, value());
     if (!(o.atlas.merge_min_fill >= 0 && o.atlas.merge_min_fill <= 1))
@@ -161,6 +165,8 @@ bool parse_method_flag(const std::vector<std::string>& args, size_t& i, MethodFl
     o.repair.max_growth = integer(a, value(), 0, 20);
   } else if (a == "--no-untangle") {
     o.repair.untangle = false;
+  } else if (a == "--no-grow-while-bad") {
+    o.repair.grow_while_bad = false;
   } else if (a == "--no-island-start") {
     o.repair.island_start = false;
   } else if (a == "--no-repair-split") {

@@ -44,42 +44,59 @@ double signed_area2(const std::array<Vec2, 3>& uv) { return cross(uv[1] - uv[0],
 
 bool in_unit_square(Vec2 p) { return p.x >= 0 && p.x <= 1 && p.y >= 0 && p.y <= 1; }
 
-// Which triangles need repair (see UvRepairOptions).
+// A triangle's L2 stretch (Sander et al., UV onto surface, at the global
+// scale) and its largest expansion (singular value of surface -> UV); false
+// when flipped or collapsed.
+bool stretch_of(const RestTriangle& r, const std::array<Vec2, 3>& uv, double& stretch,
+                double& expansion) {
+  const detail::Jacobian J = detail::jacobian(r, uv);
+  const double d = J.det();
+  if (!(d > 0)) return false;
+  // Sander's L2 stretch of the inverse map is sqrt((1/s1^2 + 1/s2^2) / 2).
+  const double f = J.frobenius2();
+  const double root = std::sqrt(std::max(0.0, f * f - 4 * d * d));
+  const double s1sq = 0.5 * (f + root), s2sq = std::max(0.5 * (f - root), d * d / s1sq);
+  stretch = std::sqrt(0.5 * (1 / s1sq + 1 / s2sq));
+  expansion = std::sqrt(s1sq);
+  return true;
+}
+
+// The area-weighted median stretch over unflipped triangles (1 if none).
+double median_stretch(const std::vector<RestTriangle>& rest,
+                      const std::vector<std::array<Vec2, 3>>& uvs) {
+  struct Weighted { double value, area; };
+  std::vector<Weighted> finite;
+  for (size_t t = 0; t < rest.size(); ++t) {
+    double s, e;
+    if (rest[t].valid && stretch_of(rest[t], uvs[t], s, e)) finite.push_back({s, rest[t].area});
+  }
+  if (finite.empty()) return 1;
+  std::sort(finite.begin(), finite.end(), [](auto& a, auto& b) { return a.value < b.value; });
+  double total = 0, below = 0;
+  for (auto& w : finite) total += w.area;
+  for (auto& w : finite) {
+    below += w.area;
+    if (below >= 0.5 * total) return w.value;
+  }
+  return finite.back().value;
+}
+
+// Whether one triangle needs repair (see UvRepairOptions), given the median.
+bool is_bad(const RestTriangle& r, const std::array<Vec2, 3>& uv, double median,
+            const UvRepairOptions& o) {
+  if (!r.valid) return false;
+  double stretch, expansion;
+  if (!stretch_of(r, uv, stretch, expansion)) return true;  // flipped or collapsed
+  return stretch > o.stretch_threshold * median || expansion > o.expansion_threshold;
+}
+
+// Which triangles need repair.
 std::vector<uint8_t> find_bad(const std::vector<RestTriangle>& rest,
                               const std::vector<std::array<Vec2, 3>>& uvs,
                               const UvRepairOptions& o) {
-  const size_t n = rest.size();
-  std::vector<double> stretch(n, kInf), expansion(n, 0);
-  struct Weighted { double value, area; };
-  std::vector<Weighted> finite;
-  for (size_t t = 0; t < n; ++t) {
-    if (!rest[t].valid) continue;
-    const detail::Jacobian J = detail::jacobian(rest[t], uvs[t]);
-    const double d = J.det();
-    if (!(d > 0)) continue;  // flipped or collapsed: stretch stays infinite
-    // Singular values of J (surface -> UV at the global scale); Sander's L2
-    // stretch of the inverse map is sqrt((1/s1^2 + 1/s2^2) / 2).
-    const double f = J.frobenius2();
-    const double root = std::sqrt(std::max(0.0, f * f - 4 * d * d));
-    const double s1sq = 0.5 * (f + root), s2sq = std::max(0.5 * (f - root), d * d / s1sq);
-    stretch[t] = std::sqrt(0.5 * (1 / s1sq + 1 / s2sq));
-    expansion[t] = std::sqrt(s1sq);
-    finite.push_back({stretch[t], rest[t].area});
-  }
-  double median = 1;
-  if (!finite.empty()) {
-    std::sort(finite.begin(), finite.end(), [](auto& a, auto& b) { return a.value < b.value; });
-    double total = 0, below = 0;
-    for (auto& w : finite) total += w.area;
-    for (auto& w : finite) {
-      below += w.area;
-      if (below >= 0.5 * total) { median = w.value; break; }
-    }
-  }
-  std::vector<uint8_t> bad(n, 0);
-  for (size_t t = 0; t < n; ++t)
-    bad[t] = rest[t].valid && (stretch[t] > o.stretch_threshold * median ||
-                               expansion[t] > o.expansion_threshold);
+  const double median = median_stretch(rest, uvs);
+  std::vector<uint8_t> bad(rest.size(), 0);
+  for (size_t t = 0; t < rest.size(); ++t) bad[t] = is_bad(rest[t], uvs[t], median, o);
   return bad;
 }
 
@@ -504,6 +521,7 @@ UvRepairResult repair_uvs(const Soup& soup, const quality::Weld& weld,
   }
   r.bad_triangles = size_t(std::count(bad.begin(), bad.end(), 1));
   const UvVertices verts = uv_vertices(weld, triangle_chart);
+  const double median = median_stretch(rest, uvs);
 
   // UV vertices whose welded vertex also lives on another chart: their
   // copies across the seam may match by chance (§8 extends charts across
@@ -543,7 +561,8 @@ UvRepairResult repair_uvs(const Soup& soup, const quality::Weld& weld,
     std::vector<uint32_t> free_vertices = patches[p];
     bool done = false;
     enum { too_large, no_start, no_gain, sliver } why = no_start;
-    for (int ring = 0; ring <= options.max_growth && !done; ++ring) {
+    for (int ring = 0; ring <= options.max_growth; ++ring) {
+      const bool grown_after_repair = done;
       if (free_vertices.size() > options.max_patch_vertices) { why = too_large; break; }
       Patch patch(free_vertices, verts, rest, uvs, foreign);
       const double before = patch.original_energy();
@@ -563,6 +582,7 @@ UvRepairResult repair_uvs(const Soup& soup, const quality::Weld& weld,
         patch.untangle(options.untangle_rounds, 50);
       }
       why = no_start;
+      bool improved = false;
       if (std::isfinite(patch.energy())) {
         patch.minimise(options.max_sweeps);
         const double after = patch.energy();
@@ -576,12 +596,19 @@ UvRepairResult repair_uvs(const Soup& soup, const quality::Weld& weld,
               uvs[c / 3][c % 3] = patch.uv(i);
             }
           }
-          done = true;
-          break;
+          done = improved = true;
+          // Still stretched: the fixed ring itself is squeezed (lines that
+          // converged over a whole region); one more ring gives it room,
+          // starting from this solution, kept only if it lowers the energy.
+          bool still_bad = false;
+          if (options.grow_while_bad)
+            for (uint32_t t : patch.triangles()) still_bad |= is_bad(rest[t], uvs[t], median, options);
+          if (!still_bad) break;
         }
         // No better, or still a sliver: the fixed surroundings themselves
         // constrain the patch too much; one more ring gives it room.
       }
+      if (grown_after_repair && !improved) break;  // the last repair stands
       // Grow by one ring: every UV vertex of the patch's triangles is free.
       for (uint32_t t : patch.triangles())
         for (int k = 0; k < 3; ++k)

@@ -1,0 +1,29 @@
+// The UV repair's growth while still bad (UvRepairOptions::grow_while_bad) on
+// real data: the Fox sample's inner leg faces, where the proxy fuses the legs
+// and lines leaving the gap land squeezed on one chart. The first repair of
+// such a patch is held back by a ring that is itself squeezed; growing from
+// that solution lowers the L2 stretch (measured here, offset 0.03: 1.133 ->
+// 1.100, continuity 0.866 and no flips either way).
+#include <gtest/gtest.h>
+
+#include "pipeline_support.h"
+#include "soupuv/io/load.h"
+
+using namespace soupuv;
+using namespace soupuv::testing;
+
+TEST(RepairGrowth, FoxLegsAreLessStretched) {
+  io::LoadOptions lo;
+  lo.allow_external_uris = true;
+  const Soup fox = io::load_file(std::string(SOUPUV_SHARED_DATA) + "/gltf/Fox/Fox.gltf", lo).soup;
+  MapOptions o = fast_options();
+  MapOptions once = o;
+  once.repair.grow_while_bad = false;
+  const nlohmann::json a = run_map(fox, once).diagnostics["uv"];
+  const nlohmann::json b = run_map(fox, o).diagnostics["uv"];
+  std::cout << "first repair only: " << a["stretch_l2"] << " / " << a["continuity"]
+            << "; growing: " << b["stretch_l2"] << " / " << b["continuity"] << "\n";
+  EXPECT_LT(b["stretch_l2"].get<double>(), a["stretch_l2"].get<double>() - 0.01);
+  EXPECT_LE(b["flipped_fraction"].get<double>(), a["flipped_fraction"].get<double>());
+  EXPECT_GE(b["continuity"].get<double>(), a["continuity"].get<double>() - 0.002);
+}
