@@ -166,6 +166,8 @@ void apply_switches(const bench::Args& args, MapOptions& o) {
     if (args.rest[i] == "--seed-weld-corners") o.seed_weld_by_edges = false;
     if (args.rest[i] == "--no-reweld") o.uv_reweld = false;
     if (args.rest[i] == "--no-grow-while-bad") o.repair.grow_while_bad = false;
+    if (args.rest[i] == "--seed-edge-fraction" && i + 1 < args.rest.size())
+      o.seed_weld_edge_fraction = std::stod(args.rest[i + 1]);
     if (args.rest[i] == "--strict-retry" && i + 1 < args.rest.size())
       o.repair_strict_retry = std::stod(args.rest[i + 1]);
   }

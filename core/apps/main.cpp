@@ -93,6 +93,8 @@ Usage:
                              (--weld-tolerance) instead of matching edges
       --seed-weld-corners    shared field lines start from copies welded by
                              position alone (default: matched edges, then position)
+      --seed-edge-fraction F ... that position weld joins copies closer than F x
+                             their triangles' shortest edge (0.5)
       --repair-weld-lines    the repair moves each shared line's copies as one UV
                              vertex (default: the matched-edge weld's vertices)
       --no-reweld            leave copies of one field line that the repair put

@@ -179,6 +179,9 @@ bool parse_method_flag(const std::vector<std::string>& args, size_t& i, MethodFl
     o.weld_by_edges = false;
   } else if (a == "--seed-weld-corners") {
     o.seed_weld_by_edges = false;
+  } else if (a == "--seed-edge-fraction") {
+    o.seed_weld_edge_fraction = number(a, value());
+    if (!(o.seed_weld_edge_fraction >= 0)) throw UsageError{"--seed-edge-fraction needs a value >= 0"};
   } else if (a == "--repair-weld-lines") {
     o.repair_weld_lines = true;
   } else if (a == "--no-reweld") {

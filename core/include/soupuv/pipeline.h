@@ -145,7 +145,8 @@ struct MapOptions {
   // neighbour pairs whose copies start different lines 448 -> 225 of 9,400
   // (edges alone 269). With uv_reweld and the 1.05 strict retry below, one
   // binary, loaded machine (`soupuv map --original`; CLI --seed-weld-corners
-  // --no-reweld --strict-retry 1.2 gives session 5's pipeline), continuity /
+  // --no-reweld --strict-retry 1.2 --no-grow-while-bad gives session 5's
+  // pipeline; edge fraction 1 below, no growth), continuity /
   // flipped % / L2: teapot 0.9441 / 0.174 / 1.105 -> 0.9521 / 0.316 / 1.119,
   // spot 0.9669 -> 0.9671, fandisk 0.9800 -> 0.9799, stanford-bunny 0.9868 /
   // 0 / 1.281 -> 0.9872 / 0 / 1.280, suzanne and the welded glTF samples
@@ -155,6 +156,14 @@ struct MapOptions {
   // length, and two repair patches fail (one flipped sliver; L2 without it
   // 1.132).
   bool seed_weld_by_edges = true;
+  // The edge fraction of that distance weld on top (0: weld_edge_fraction):
+  // 0.5 joins fewer distinct vertices where the noise reaches the edges.
+  // One binary, loaded machine, 1.0 -> 0.5: teapot 0.9541 / 0.127 % / 1.103
+  // -> 0.9553 / 0.063 % / 1.098 (neighbour pairs on different lines 225 ->
+  // 243, but fewer false joins for the repair to undo), 100k torus
+  // continuity 0.98764 -> 0.98808 (L2 1.152 both); spot, suzanne, fandisk,
+  // stanford-bunny unchanged.
+  double seed_weld_edge_fraction = 0.5;
   // The repair's UV vertices are the shared lines' groups (one line, one UV
   // vertex per chart) instead of weld_by_edges' vertices. Off: those groups
   // hold the seeds' false joins, which the repair then cannot unfold (teapot,

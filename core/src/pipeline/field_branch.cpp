@@ -48,7 +48,7 @@ std::string trace_params(const FieldBranchOptions& b, const field::TraceOptions&
     << " theta=" << o.fmm_theta << " keep=" << o.keep_points << " adaptive=" << o.adaptive_step
     << " direct=" << o.direct << " leaf=" << o.fmm_leaf_size << " trapped=" << o.trapped_steps << " probes=" << b.trace_cut_probes << " orient=" << b.orient_sides << " share=" << b.share_lines
     << " weld=" << b.weld_tolerance << " edge=" << b.weld_edge_fraction
-    << " seed_edges=" << b.seed_edge_weld_tolerance;
+    << " seed_edges=" << b.seed_edge_weld_tolerance << " seed_fraction=" << b.seed_edge_fraction;
   return s.str();
 }
 
@@ -125,7 +125,9 @@ void trace_shared(const Soup& soup, const field::ChargeResult& charges,
   const quality::Weld weld =
       options.seed_edge_weld_tolerance > 0
           ? quality::extend_weld(soup, quality::weld_by_edges(soup, options.seed_edge_weld_tolerance),
-                                 options.weld_tolerance, options.weld_edge_fraction)
+                                 options.weld_tolerance,
+                                 options.seed_edge_fraction > 0 ? options.seed_edge_fraction
+                                                                : options.weld_edge_fraction)
           : quality::weld_corners(soup, options.weld_tolerance, options.weld_edge_fraction);
   const auto adjacency = quality::edge_adjacency(weld, soup.triangles.size());
   const transfer::Orientation orientation = transfer::consistent_orientation(soup, adjacency);

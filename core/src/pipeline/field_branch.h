@@ -36,6 +36,9 @@ struct FieldBranchOptions {
   // copies of a vertex start one line where position alone is ambiguous.
   // 0: corner distance alone. The orientation uses the same weld.
   double seed_edge_weld_tolerance = 0;
+  // ... and the distance weld on top of it then uses this edge fraction
+  // (quality::weld_corners' edge_fraction); 0: weld_edge_fraction.
+  double seed_edge_fraction = 0;
   int threads = 1;
   // How far from the soup any proxy the pipeline may build can lie
   // (proxy_reach()); > 0 while trace.stop_radius is 0 and trace.stop_box is

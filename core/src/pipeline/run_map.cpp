@@ -218,6 +218,7 @@ MapResult run_map(const Soup& soup, const MapOptions& options, Progress& progres
   fo.weld_tolerance = options.weld_tolerance * diag;
   fo.weld_edge_fraction = options.weld_edge_fraction;
   if (options.seed_weld_by_edges) fo.seed_edge_weld_tolerance = options.edge_weld_tolerance * diag;
+  fo.seed_edge_fraction = options.seed_weld_edge_fraction;
   fo.threads = field_threads;
   fo.proxy_reach = pipeline::proxy_reach(soup, options.proxy);
 
