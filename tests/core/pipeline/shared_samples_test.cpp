@@ -54,11 +54,13 @@ void check(const Sample& s) {
 // Floors under session 5's figures (edge weld + island start + split
 // corners; loaded machine): suzanne 0 % / 1.10 / 0.912, spot 0 % / 1.19 /
 // 0.959. Suzanne was 1.14 % / 3.47 / 0.906 with the corner weld.
-TEST(SharedSamples, Suzanne) { check({"suzanne", 0.005, 2.5, 0.88}); }
+// Session 6 (seeds welded by edges, the re-weld, strict retry 1.05, the
+// repair's growth while bad; the atlas's segmentation budgets), measured
+// here, continuity / flipped / L2: suzanne 0.9505 / 0 % / 1.11, spot 0.972 /
+// 0 % / 1.11, teapot 0.955 / 0.06 % / 1.10. Floors a little under them
+// (one suzanne pair is 0.0007 of continuity); teapot's is the 0.95.
+TEST(SharedSamples, Suzanne) { check({"suzanne", 0.005, 1.3, 0.94}); }
 
-TEST(SharedSamples, Spot) { check({"spot", 0.005, 1.3, 0.94}); }
+TEST(SharedSamples, Spot) { check({"spot", 0.005, 1.2, 0.96}); }
 
-// Session 6 (seeds welded by edges, the re-weld, strict retry 1.05),
-// measured here (offset 0.03): 0.955 / 0.16 % / 1.12; the bench's automatic
-// offset 0.952 / 0.32 % / 1.12. The targets, asserted as they are.
-TEST(SharedSamples, Teapot) { check({"teapot", 0.005, 1.3, 0.95}); }
+TEST(SharedSamples, Teapot) { check({"teapot", 0.005, 1.2, 0.95}); }
