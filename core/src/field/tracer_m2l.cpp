@@ -73,13 +73,32 @@ BatchM2L::BatchM2L(const TaylorBasis& basis) {
   }
 }
 
-namespace {
-
-struct Tables {
+struct BatchM2L::Tables {
   int n;
   const int *m1, *m2, *start, *power;
   const double *c1, *c2, *factorial, *inv_factorial, *out_scale;
 };
+
+BatchM2L::Tables BatchM2L::tables() const {
+  return {n_,         m1_.data(),        m2_.data(),         start_.data(),    power_.data(),
+          c1_.data(), c2_.data(), factorial_.data(), inv_factorial_.data(), out_scale_.data()};
+}
+
+namespace {
+
+using Tables = BatchM2L::Tables;
+
+// 3 n + 1 SIMD vectors of scratch (k: n + 1, mt: n, acc: n), 32-byte aligned
+// by hand: std::vector of a vector type came back only 16-byte aligned, and
+// the AVX2 code stores whole vectors with aligned moves. A target cell's list
+// is hundreds of M2Ls, so one allocation per call is noise.
+template <class V, class Lane>
+V* aligned_scratch(std::vector<Lane>& storage, int n) {
+  constexpr size_t lanes = sizeof(V) / sizeof(Lane);
+  storage.assign(lanes * (3 * static_cast<size_t>(n) + 1) + lanes, Lane{0});
+  const auto base = reinterpret_cast<uintptr_t>(storage.data());
+  return reinterpret_cast<V*>((base + 31) & ~uintptr_t{31});
+}
 
 // k: n + 1 vectors (the last one stays 0), mt: n vectors, acc: n vectors.
 __attribute__((always_inline)) inline void apply_body(const Tables& t, const double* const* M, const Vec3* R,
@@ -217,23 +236,9 @@ void apply_float_generic(const Tables& t, const double* const* M, const Vec3* R,
 
 void BatchM2L::apply(const double* const* M, const Vec3* R, int count, double* L) const {
   if (count <= 0) return;
-  const Tables t{n_,
-                 m1_.data(),
-                 m2_.data(),
-                 start_.data(),
-                 power_.data(),
-                 c1_.data(),
-                 c2_.data(),
-                 factorial_.data(),
-                 inv_factorial_.data(),
-                 out_scale_.data()};
-  // Scratch per call: a target cell's list is hundreds of M2Ls, so one
-  // allocation is noise. 3 n + 1 vectors.
-  // Aligned by hand: std::vector<v4d> came back only 16-byte aligned, and
-  // the AVX2 code stores whole vectors with aligned moves.
-  std::vector<double> scratch(4 * (3 * static_cast<size_t>(n_) + 1) + 4);
-  const auto base = reinterpret_cast<uintptr_t>(scratch.data());
-  v4d* k = reinterpret_cast<v4d*>((base + 31) & ~uintptr_t{31});
+  const Tables t = tables();
+  std::vector<double> storage;
+  v4d* k = aligned_scratch<v4d>(storage, n_);
   v4d* mt = k + n_ + 1;
   v4d* acc = mt + n_;
 #if defined(__x86_64__) && defined(__GNUC__)
@@ -244,19 +249,9 @@ void BatchM2L::apply(const double* const* M, const Vec3* R, int count, double* L
 
 void BatchM2L::apply_float(const double* const* M, const Vec3* R, int count, double* L) const {
   if (count <= 0) return;
-  const Tables t{n_,
-                 m1_.data(),
-                 m2_.data(),
-                 start_.data(),
-                 power_.data(),
-                 c1_.data(),
-                 c2_.data(),
-                 factorial_.data(),
-                 inv_factorial_.data(),
-                 out_scale_.data()};
-  std::vector<float> scratch(8 * (3 * static_cast<size_t>(n_) + 1) + 8);
-  const auto base = reinterpret_cast<uintptr_t>(scratch.data());
-  v8f* k = reinterpret_cast<v8f*>((base + 31) & ~uintptr_t{31});
+  const Tables t = tables();
+  std::vector<float> storage;
+  v8f* k = aligned_scratch<v8f>(storage, n_);
   v8f* mt = k + n_ + 1;
   v8f* acc = mt + n_;
 #if defined(__x86_64__) && defined(__GNUC__)

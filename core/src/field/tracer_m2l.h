@@ -37,7 +37,12 @@ class BatchM2L {
 
   int size() const { return n_; }
 
+  // The tables below as raw pointers, the form the SIMD kernels in the .cpp take.
+  struct Tables;
+
  private:
+  Tables tables() const;
+
   int n_ = 0;  // coefficients of total degree <= p
   // Kernel recurrence per coefficient a >= 1 (taylor.h): indices of a - e_i
   // and a - 2e_i (n_, a slot that holds 0, where absent), (2|a|-1)/|a|, (|a|-1)/|a|.

@@ -6,41 +6,20 @@
 #include <set>
 
 #include "soupuv/quality/uv_metrics.h"
-#include "soupuv/shapes.h"
 #include "soupuv/transfer/uv_repair.h"
+
+#include "uv_grid_case.h"
 
 using namespace soupuv;
 using namespace soupuv::transfer;
 
 namespace {
 
-constexpr int kN = 8;          // grid cells per side
-constexpr double kScale = 0.1; // UV units per 3D length
+constexpr double kScale = soupuv::testing::kGridUvScale;
 
-TriMesh grid() {
-  TriMesh m;
-  for (int j = 0; j <= kN; ++j)
-    for (int i = 0; i <= kN; ++i) m.vertices.push_back({double(i), double(j), 0});
-  auto id = [](int i, int j) { return j * (kN + 1) + i; };
-  for (int j = 0; j < kN; ++j)
-    for (int i = 0; i < kN; ++i) {
-      m.faces.push_back({id(i, j), id(i + 1, j), id(i + 1, j + 1)});
-      m.faces.push_back({id(i, j), id(i + 1, j + 1), id(i, j + 1)});
-    }
-  return m;
-}
+Vec2 isometric(Vec3 p) { return soupuv::testing::grid_isometric_uv(p); }
 
-Vec2 isometric(Vec3 p) { return {0.05 + kScale * p.x, 0.05 + kScale * p.y}; }
-
-struct Case {
-  Soup soup = shapes::to_soup(grid(), 0.0);
-  quality::Weld weld = quality::weld_corners(soup, 1e-9);
-  std::vector<int> chart = std::vector<int>(soup.triangles.size(), 0);
-  std::vector<std::array<Vec2, 3>> uvs;
-  Case() {
-    for (size_t t = 0; t < soup.triangles.size(); ++t)
-      uvs.push_back({isometric(soup.corner(t, 0)), isometric(soup.corner(t, 1)), isometric(soup.corner(t, 2))});
-  }
+struct Case : soupuv::testing::UvGridCase {
   // Every copy of the grid vertex at (x, y) gets `uv`.
   void move_vertex(double x, double y, Vec2 uv) {
     for (size_t t = 0; t < soup.triangles.size(); ++t)
