@@ -15,28 +15,46 @@
 using namespace soupuv;
 using namespace soupuv::field;
 
+namespace {
+
+// `count` source cells as BatchM2L takes them: random moments shrinking like
+// 0.3^|a| (as a cell of radius ~0.3's do), optionally a positive total charge
+// (as the tracer's sources have), and well-separated random offsets.
+struct SourceList {
+  std::vector<std::vector<double>> M;
+  std::vector<const double*> ptr;
+  std::vector<Vec3> R;
+};
+
+SourceList random_sources(const TaylorBasis& basis, int count, std::mt19937& rng, bool positive_charge) {
+  std::uniform_real_distribution<double> u(-1, 1);
+  const int n = basis.size();
+  SourceList s{std::vector<std::vector<double>>(count, std::vector<double>(n)), std::vector<const double*>(count),
+               std::vector<Vec3>(count)};
+  for (int i = 0; i < count; ++i) {
+    for (int a = 0; a < n; ++a) {
+      const auto& A = basis.multi_index(a);
+      s.M[i][a] = u(rng) * std::pow(0.3, A[0] + A[1] + A[2]);
+    }
+    if (positive_charge) s.M[i][0] = 1 + 0.5 * u(rng);
+    s.ptr[i] = s.M[i].data();
+    Vec3 d{u(rng), u(rng), u(rng)};
+    s.R[i] = (1.5 + 2 * std::fabs(u(rng))) * normalized(d);
+  }
+  return s;
+}
+
+}  // namespace
+
 TEST(TracerM2L, MatchesTaylorBasisOnePairAtATime) {
   std::mt19937 rng(5);
-  std::uniform_real_distribution<double> u(-1, 1);
   for (int p : {2, 5, 7, 10}) {
     const TaylorBasis basis(p);
     const tracer::BatchM2L batch(basis);
     const int n = basis.size();
     ASSERT_EQ(batch.size(), n);
     for (int count : {1, 2, 3, 4, 5, 7, 8, 13}) {
-      std::vector<std::vector<double>> M(count, std::vector<double>(n));
-      std::vector<const double*> ptr(count);
-      std::vector<Vec3> R(count);
-      for (int i = 0; i < count; ++i) {
-        // Moments of a cell of radius ~0.3 shrink like 0.3^|a|, as real ones do.
-        for (int a = 0; a < n; ++a) {
-          const auto& A = basis.multi_index(a);
-          M[i][a] = u(rng) * std::pow(0.3, A[0] + A[1] + A[2]);
-        }
-        ptr[i] = M[i].data();
-        Vec3 d{u(rng), u(rng), u(rng)};
-        R[i] = (1.5 + 2 * std::fabs(u(rng))) * normalized(d);
-      }
+      const auto [M, ptr, R] = random_sources(basis, count, rng, false);
       std::vector<double> ref(n, 0.0), got(n, 0.25);
       for (int i = 0; i < count; ++i) basis.m2l(M[i].data(), R[i], ref.data());
       batch.apply(ptr.data(), R.data(), count, got.data());
@@ -62,20 +80,7 @@ TEST(TracerM2L, FloatBatchGivesTheSameFieldToFloatRounding) {
     const tracer::BatchM2L batch(basis);
     const int n = basis.size();
     for (int count : {1, 3, 7, 8, 9, 13, 16, 23}) {
-      std::vector<std::vector<double>> M(count, std::vector<double>(n));
-      std::vector<const double*> ptr(count);
-      std::vector<Vec3> R(count);
-      for (int i = 0; i < count; ++i) {
-        for (int a = 0; a < n; ++a) {
-          const auto& A = basis.multi_index(a);
-          M[i][a] = u(rng) * std::pow(0.3, A[0] + A[1] + A[2]);
-        }
-        // A positive total charge, as the tracer's sources have.
-        M[i][0] = 1 + 0.5 * u(rng);
-        ptr[i] = M[i].data();
-        Vec3 d{u(rng), u(rng), u(rng)};
-        R[i] = (1.5 + 2 * std::fabs(u(rng))) * normalized(d);
-      }
+      const auto [M, ptr, R] = random_sources(basis, count, rng, true);
       std::vector<double> ref(n, 0.0), got(n, 0.0);
       batch.apply(ptr.data(), R.data(), count, ref.data());
       batch.apply_float(ptr.data(), R.data(), count, got.data());
