@@ -56,6 +56,22 @@ atlas::AtlasOptions map_atlas_defaults();
 // triangles, 44 charts, continuity 0.918; 0.03 -> 3,392, 25, 0.925.
 proxy::ProxyOptions map_proxy_defaults();
 
+// One alternative (proxy, atlas) for the field method. The field does not
+// depend on the proxy or the atlas (§9), so on small soups run_map can try
+// several against the one cached field and keep the variant whose measured
+// quality (weld-inferred continuity within the flipped / stretch targets) is
+// best. proxy_offset_fraction > 0 replaces the proxy's automatic offset by
+// that fraction of the soup's diagonal; 0 keeps MapOptions::proxy.
+struct MapCandidate {
+  std::string name;
+  atlas::AtlasOptions atlas;
+  double proxy_offset_fraction = 0;
+};
+
+// The candidates, the first being {"default", map_atlas_defaults(), 0}.
+// map_defaults.cpp says why each is on the list.
+std::vector<MapCandidate> map_candidates();
+
 struct MapOptions {
   MapMethod method = MapMethod::field;
   proxy::ProxyOptions proxy = map_proxy_defaults();

@@ -149,4 +149,10 @@ proxy::ProxyOptions map_proxy_defaults() {
   return o;
 }
 
+std::vector<MapCandidate> map_candidates() {
+  // Only the default so far: alternatives are added here with the figures
+  // that earned them their place.
+  return {MapCandidate{"default", map_atlas_defaults(), 0}};
+}
+
 }  // namespace soupuv
