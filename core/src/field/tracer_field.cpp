@@ -124,36 +124,65 @@ TracerField::TracerField(const Fmm& fmm, const std::vector<double>& charges, int
     t.near2 = rn * rn;
     t.closed2 = rc * rc;
   }
-  // One float block per source leaf (tracer_kernels.h), relative to its
-  // expansion centre.
+  // Float blocks (tracer_kernels.h): the leaf children of each source cell
+  // back to back (a leaf without a parent, the root, alone), relative to that
+  // cell's expansion centre. Leaves at the tree's depth limit may be larger
+  // than leaf_size; nothing here depends on the size.
   const int gf = tracer::group_floats(m_);
-  span_of_cell_.assign(fmm.scells_.size(), -1);
-  size_t floats = 0;
-  for (size_t ci = 0; ci < fmm.scells_.size(); ++ci) {
-    const auto& cell = fmm.scells_[ci];
-    if (cell.children != 0) continue;
+  const auto& cells = fmm.scells_;
+  span_of_cell_.assign(cells.size(), -1);
+  auto add_block = [&](Vec3 mc) {
+    Block b;
+    b.mc = mc;
+    b.block = block_list_.empty() ? 0 : block_list_.back().block + static_cast<size_t>(block_list_.back().groups) * gf;
+    b.slot0 = block_list_.empty() ? 0 : block_list_.back().slot0 + static_cast<size_t>(block_list_.back().groups) * tracer::kLanes;
+    block_list_.push_back(b);
+  };
+  auto add_leaf = [&](int ci, int slot) {
     Span s;
-    s.mc = cell.mc;
-    s.first = cell.first;
-    s.count = cell.count;
-    s.groups = (cell.count + tracer::kLanes - 1) / tracer::kLanes;
-    s.block = floats;
-    floats += static_cast<size_t>(s.groups) * gf;
+    s.block = static_cast<int>(block_list_.size()) - 1;
+    s.first_slot = slot;
+    s.count = cells[ci].count;
     span_of_cell_[ci] = static_cast<int>(spans_.size());
     spans_.push_back(s);
+    return slot + s.count;
+  };
+  if (!cells.empty() && cells[0].children == 0) {
+    add_block(cells[0].mc);
+    block_list_.back().groups = (add_leaf(0, 0) + tracer::kLanes - 1) / tracer::kLanes;
   }
-  blocks_.resize(floats);
-  const long ns = static_cast<long>(spans_.size());
+  for (size_t ci = 0; ci < cells.size(); ++ci) {
+    const auto& cell = cells[ci];
+    if (cell.children == 0) continue;
+    int slots = 0;
+    for (int k = 0; k < cell.children; ++k)
+      if (cells[cell.child_first + k].children == 0) {
+        if (slots == 0) add_block(cell.mc);
+        slots = add_leaf(cell.child_first + k, slots);
+      }
+    if (slots > 0) block_list_.back().groups = (slots + tracer::kLanes - 1) / tracer::kLanes;
+  }
+  size_t total_groups = 0;
+  for (const Block& b : block_list_) total_groups += b.groups;
+  blocks_.assign(total_groups * gf, 0.0f);
+  slot_tri_.assign(total_groups * tracer::kLanes, -1);
+  for (size_t ci = 0; ci < cells.size(); ++ci) {
+    if (span_of_cell_[ci] < 0) continue;
+    const Span& s = spans_[span_of_cell_[ci]];
+    const size_t s0 = block_list_[s.block].slot0 + s.first_slot;
+    for (int i = 0; i < s.count; ++i) slot_tri_[s0 + i] = cells[ci].first + i;
+  }
+  const long nb = static_cast<long>(block_list_.size());
 #pragma omp parallel for num_threads(threads_) schedule(static)
-  for (long si = 0; si < ns; ++si) {
-    const Span& s = spans_[si];
-    for (int g = 0; g < s.groups; ++g) {
-      float* b = &blocks_[s.block + static_cast<size_t>(g) * gf];
+  for (long bi = 0; bi < nb; ++bi) {
+    const Block& blk = block_list_[bi];
+    for (int g = 0; g < blk.groups; ++g) {
+      float* b = &blocks_[blk.block + static_cast<size_t>(g) * gf];
       for (int l = 0; l < tracer::kLanes; ++l) {
-        const int k = s.first + g * tracer::kLanes + l;
-        const bool real = k < s.first + s.count;
+        const int k = slot_tri_[blk.slot0 + static_cast<size_t>(g) * tracer::kLanes + l];
+        const bool real = k >= 0;
         // Padding: never near, no charge, points well away from any target.
-        const Vec3 c = real ? src.centroid[fmm.order_[k]] - s.mc : Vec3{1e6, 1e6, 1e6};
+        const Vec3 c = real ? src.centroid[fmm.order_[k]] - blk.mc : Vec3{1e6, 1e6, 1e6};
         const double nr = real ? src.near_factor * src.radius[fmm.order_[k]] : -1.0;
         b[l] = static_cast<float>(c.x);
         b[8 + l] = static_cast<float>(c.y);
@@ -161,7 +190,7 @@ TracerField::TracerField(const Fmm& fmm, const std::vector<double>& charges, int
         b[24 + l] = real ? static_cast<float>(nr * nr) : -1.0f;
         for (int i = 0; i < m_; ++i) {
           float* p = b + 32 + 32 * i;
-          const Vec3 y = real ? fmm.points_[static_cast<size_t>(k) * m_ + i] - s.mc : Vec3{1e6, 1e6, 1e6};
+          const Vec3 y = real ? fmm.points_[static_cast<size_t>(k) * m_ + i] - blk.mc : Vec3{1e6, 1e6, 1e6};
           p[l] = static_cast<float>(y.x);
           p[8 + l] = static_cast<float>(y.y);
           p[16 + l] = static_cast<float>(y.z);
@@ -172,6 +201,7 @@ TracerField::TracerField(const Fmm& fmm, const std::vector<double>& charges, int
   }
   upward_pass();
   slot_.assign(fmm.tcells_.size(), -1);
+  plans_.resize(fmm.tcells_.size());
 }
 
 // P2M at the source leaves, M2M up the tree, level by level (deepest first).
@@ -245,11 +275,38 @@ void TracerField::prepare(const std::vector<int>& leaves) {
       m2l_->apply_float(moments.data(), offsets.data(), static_cast<int>(sources.size()), L);
       ops += sources.size();
       field_expansion_->from_local(L, &G_[static_cast<size_t>(slot_[c]) * gsize]);
+      if (cell.child_first < 0) build_near_plan(c);
     }
     s = e;
   }
   expansions_ += todo.size();
   m2l_ops_ += ops;
+}
+
+void TracerField::build_near_plan(int leaf) {
+  NearPlan& plan = plans_[leaf];
+  plan.runs.clear();
+  plan.masks.clear();
+  std::vector<Span> listed;
+  for (int B : fmm_.near_[leaf]) listed.push_back(spans_[span_of_cell_[B]]);
+  std::sort(listed.begin(), listed.end(), [](const Span& a, const Span& b) {
+    return a.block != b.block ? a.block < b.block : a.first_slot < b.first_slot;
+  });
+  constexpr int L = tracer::kLanes;
+  for (const Span& s : listed) {
+    const int g_first = s.first_slot / L, g_last = (s.first_slot + s.count - 1) / L;
+    // A new run where the block changes or a whole group is left out.
+    if (plan.runs.empty() || plan.runs.back().block != s.block ||
+        g_first > plan.runs.back().g0 + plan.runs.back().groups)
+      plan.runs.push_back({s.block, g_first, 0, static_cast<int>(plan.masks.size())});
+    NearRun& run = plan.runs.back();
+    while (run.g0 + run.groups <= g_last) {
+      plan.masks.push_back(0);
+      ++run.groups;
+    }
+    for (int slot = s.first_slot; slot < s.first_slot + s.count; ++slot)
+      plan.masks[run.mask0 + slot / L - run.g0] |= static_cast<uint8_t>(1u << (slot % L));
+  }
 }
 
 void TracerField::field_outside(Vec3 x, Vec3* E, double* nearest) const {
@@ -292,6 +349,7 @@ void TracerField::field(int leaf, const Vec3* x, int count, Vec3* E, double* nea
     return;
   }
   const auto& cell = fmm_.tcells_[leaf];
+  const NearPlan& plan = plans_[leaf];
   const double* G = &G_[static_cast<size_t>(slot_[leaf]) * field_expansion_->size()];
   for (int i = 0; i < count; ++i) {
     field_expansion_->evaluate(G, x[i] - cell.center, &E[i]);
@@ -303,9 +361,9 @@ void TracerField::field(int leaf, const Vec3* x, int count, Vec3* E, double* nea
   constexpr int kGroups = 16;
   uint8_t bits[kGroups];
   const int gf = tracer::group_floats(m);
-  // Source leaf by source leaf, every point in turn: a leaf's float block
-  // (a few KB) stays in L1 for all points of the block, where point by
-  // point the whole near list (tens of KB) streamed from L2 per point.
+  // Block run by block run, every point in turn: a run's floats (a few KB)
+  // stay in L1 for all points of the chunk, where point by point the whole
+  // near list (tens of KB) streamed from L2 per point.
   // Each point collects its near candidates and keeps its own batch of
   // float-rule triangles.
   constexpr int kPoints = 32;
@@ -324,17 +382,18 @@ void TracerField::field(int leaf, const Vec3* x, int count, Vec3* E, double* nea
       e[i][0] = e[i][1] = e[i][2] = 0;
       candidates[i].clear();
     }
-    for (int B : fmm_.near_[leaf]) {
-      const Span& s = spans_[span_of_cell_[B]];
+    for (const NearRun& run : plan.runs) {
+      const Block& blk = block_list_[run.block];
       for (int i = 0; i < np; ++i) {
         float xf[3];
-        to_float(x[i0 + i] - s.mc, xf);
-        for (int g0 = 0; g0 < s.groups; g0 += kGroups) {
-          const int ng = std::min(kGroups, s.groups - g0);
-          tracer::span_field(&blocks_[s.block + static_cast<size_t>(g0) * gf], ng, m, xf, e[i], bits);
-          for (int g = 0; g < ng; ++g)
-            for (unsigned b = bits[g]; b != 0; b &= b - 1)
-              candidates[i].push_back(s.first + (g0 + g) * tracer::kLanes + __builtin_ctz(b));
+        to_float(x[i0 + i] - blk.mc, xf);
+        for (int g0 = 0; g0 < run.groups; g0 += kGroups) {
+          const int ng = std::min(kGroups, run.groups - g0);
+          const size_t g = static_cast<size_t>(run.g0 + g0);
+          tracer::span_field(&blocks_[blk.block + g * gf], ng, m, xf, e[i], bits, &plan.masks[run.mask0 + g0]);
+          for (int j = 0; j < ng; ++j)
+            for (unsigned b = bits[j]; b != 0; b &= b - 1)
+              candidates[i].push_back(slot_tri_[blk.slot0 + (g + j) * tracer::kLanes + __builtin_ctz(b)]);
         }
       }
     }
@@ -411,8 +470,8 @@ void TracerField::near_candidates(const int* ks, int n, Vec3 x, double* e, doubl
 size_t TracerField::memory_bytes() const {
   return (pq_.size() + tri_charge_.size() + M_.size() + L_.size() + G_.size()) * sizeof(double) +
          near_tris_.size() * (sizeof(NearTriangle) + sizeof(NearTest)) +
-         blocks_.size() * sizeof(float) + (span_of_cell_.size() + slot_.size()) * sizeof(int) +
-         spans_.size() * sizeof(Span);
+         blocks_.size() * sizeof(float) + (span_of_cell_.size() + slot_.size() + slot_tri_.size()) * sizeof(int) +
+         spans_.size() * sizeof(Span) + block_list_.size() * sizeof(Block) + plans_.size() * sizeof(NearPlan);
 }
 
 }  // namespace soupuv::field

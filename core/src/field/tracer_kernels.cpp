@@ -23,7 +23,8 @@ namespace {
 // miss a triangle the caller's double test calls near.
 constexpr float kNearSlack = 1.0f + 1e-4f;
 
-void span_field_scalar(const float* block, int groups, int m, const float x[3], double* e, uint8_t* near_bits) {
+void span_field_scalar(const float* block, int groups, int m, const float x[3], double* e, uint8_t* near_bits,
+                       const uint8_t* lane_masks) {
   const int gf = group_floats(m);
   float ex = 0, ey = 0, ez = 0;
   for (int g = 0; g < groups; ++g) {
@@ -33,11 +34,13 @@ void span_field_scalar(const float* block, int groups, int m, const float x[3], 
       const float dx = x[0] - b[l], dy = x[1] - b[8 + l], dz = x[2] - b[16 + l];
       if (dx * dx + dy * dy + dz * dz < b[24 + l] * kNearSlack) bits |= uint8_t(1u << l);
     }
+    bits &= lane_masks[g];
     near_bits[g] = bits;
+    const unsigned skip = bits | uint8_t(~lane_masks[g]);
     for (int i = 0; i < m; ++i) {
       const float* p = b + 32 + 32 * i;
       for (int l = 0; l < kLanes; ++l) {
-        if (bits & (1u << l)) continue;
+        if (skip & (1u << l)) continue;
         const float dx = x[0] - p[l], dy = x[1] - p[8 + l], dz = x[2] - p[16 + l];
         const float inv = 1.0f / std::sqrt(dx * dx + dy * dy + dz * dz);
         const float w3 = p[24 + l] * inv * inv * inv;
@@ -87,10 +90,11 @@ __attribute__((target("avx2,fma"))) double hsum(__m256 v) {
 }
 
 __attribute__((target("avx2,fma"))) void span_field_avx2(const float* block, int groups, int m, const float x[3],
-                                                          double* e, uint8_t* near_bits) {
+                                                          double* e, uint8_t* near_bits, const uint8_t* lane_masks) {
   const int gf = group_floats(m);
   const __m256 X = _mm256_set1_ps(x[0]), Y = _mm256_set1_ps(x[1]), Z = _mm256_set1_ps(x[2]);
   const __m256 slack = _mm256_set1_ps(kNearSlack);
+  const __m256i lane_bit = _mm256_setr_epi32(1, 2, 4, 8, 16, 32, 64, 128);
   __m256 ex = _mm256_setzero_ps(), ey = ex, ez = ex;
   for (int g = 0; g < groups; ++g) {
     const float* b = block + static_cast<size_t>(g) * gf;
@@ -98,8 +102,14 @@ __attribute__((target("avx2,fma"))) void span_field_avx2(const float* block, int
     __m256 dy = _mm256_sub_ps(Y, _mm256_loadu_ps(b + 8));
     __m256 dz = _mm256_sub_ps(Z, _mm256_loadu_ps(b + 16));
     __m256 r2 = _mm256_fmadd_ps(dz, dz, _mm256_fmadd_ps(dy, dy, _mm256_mul_ps(dx, dx)));
-    const __m256 near = _mm256_cmp_ps(r2, _mm256_mul_ps(_mm256_loadu_ps(b + 24), slack), _CMP_LT_OQ);
+    // The lane mask as all-ones lanes: bit l of the mask set -> lane l selected.
+    const __m256i sel = _mm256_and_si256(_mm256_set1_epi32(lane_masks[g]), lane_bit);
+    const __m256 selected = _mm256_castsi256_ps(_mm256_cmpeq_epi32(sel, lane_bit));
+    const __m256 near =
+        _mm256_and_ps(selected, _mm256_cmp_ps(r2, _mm256_mul_ps(_mm256_loadu_ps(b + 24), slack), _CMP_LT_OQ));
     near_bits[g] = static_cast<uint8_t>(_mm256_movemask_ps(near));
+    // Only selected lanes that are not near candidates add their charges.
+    const __m256 take = _mm256_andnot_ps(near, selected);
     for (int i = 0; i < m; ++i) {
       const float* p = b + 32 + 32 * i;
       dx = _mm256_sub_ps(X, _mm256_loadu_ps(p));
@@ -108,7 +118,7 @@ __attribute__((target("avx2,fma"))) void span_field_avx2(const float* block, int
       r2 = _mm256_fmadd_ps(dz, dz, _mm256_fmadd_ps(dy, dy, _mm256_mul_ps(dx, dx)));
       const __m256 inv = inv_sqrt(r2);
       // Near candidates get charge 0 here (the caller evaluates them).
-      const __m256 q = _mm256_andnot_ps(near, _mm256_loadu_ps(p + 24));
+      const __m256 q = _mm256_and_ps(take, _mm256_loadu_ps(p + 24));
       const __m256 w3 = _mm256_mul_ps(_mm256_mul_ps(q, inv), _mm256_mul_ps(inv, inv));
       ex = _mm256_fmadd_ps(w3, dx, ex);
       ey = _mm256_fmadd_ps(w3, dy, ey);
@@ -178,11 +188,12 @@ FloatRule make_rule(const std::vector<std::array<double, 3>>& points, const std:
 
 }  // namespace
 
-void span_field(const float* block, int groups, int m, const float x[3], double* e, uint8_t* near_bits) {
+void span_field(const float* block, int groups, int m, const float x[3], double* e, uint8_t* near_bits,
+                const uint8_t* lane_masks) {
 #ifdef SOUPUV_X86_KERNELS
-  if (kHasAvx2) return span_field_avx2(block, groups, m, x, e, near_bits);
+  if (kHasAvx2) return span_field_avx2(block, groups, m, x, e, near_bits, lane_masks);
 #endif
-  span_field_scalar(block, groups, m, x, e, near_bits);
+  span_field_scalar(block, groups, m, x, e, near_bits, lane_masks);
 }
 
 void rule_field_batch(const FloatRule& rule, RuleTriangles& tri, double* e) {

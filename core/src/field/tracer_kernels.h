@@ -11,8 +11,8 @@
 // distances of the leaf's size, not to the model's coordinates. The closed
 // form (triangle_integrals) stays in double: it needs the digits.
 //
-// Layout of a source leaf ("span block"): its triangles in slots of 8 (the
-// SIMD lanes); per group of 8 slots, 32 + 32 m floats:
+// Layout of a block (TracerField: the leaf children of one source cell): its
+// triangles in slots of 8 (the SIMD lanes); per group of 8 slots, 32 + 32 m floats:
 //   cx[8] cy[8] cz[8] nr2[8]        centroid relative to the origin, (near_factor * radius)^2
 //   then per quadrature point i < m:  px[8] py[8] pz[8] pq[8]   (pq = charge * weight)
 // Padding slots have charge 0, nr2 -1 (never near) and points far away.
@@ -27,11 +27,14 @@ constexpr int kLanes = 8;
 inline int group_floats(int m) { return 32 + 32 * m; }
 
 // Adds to e[0..3) the field at x (relative to the block's origin) of every
-// slot of `groups` groups that is not a near candidate; near_bits[g] receives
-// the lanes of group g whose centroid lies within sqrt(nr2 * (1 + slack)) of x
-// (slack covers float rounding: the caller re-checks them in double and
-// evaluates them itself).
-void span_field(const float* block, int groups, int m, const float x[3], double* e, uint8_t* near_bits);
+// slot of `groups` groups that lane_masks[g] selects and that is not a near
+// candidate; near_bits[g] receives the selected lanes of group g whose
+// centroid lies within sqrt(nr2 * (1 + slack)) of x (slack covers float
+// rounding: the caller re-checks them in double and evaluates them itself).
+// The masks let one block hold several source leaves without padding between
+// them: a caller that wants some of them selects their lanes.
+void span_field(const float* block, int groups, int m, const float x[3], double* e, uint8_t* near_bits,
+                const uint8_t* lane_masks);
 
 // A symmetric rule given by barycentric coordinates and weights.
 struct FloatRule {

@@ -20,22 +20,22 @@
 //    has many cells around the surface that no line ever enters, and M2L there
 //    was most of the cost of Fmm::set_charges. A cell's M2Ls run in one
 //    batched call, four sources per SIMD pass (tracer_m2l.h).
-//  - The near field runs in single precision over one float block per source
-//    leaf (tracer_kernels.h: 8 triangles per SIMD group, coordinates relative
-//    to the leaf's centre): the kernel adds the quadrature points of every
+//  - The near field runs in single precision over float blocks of source
+//    leaves (tracer_kernels.h: 8 triangles per SIMD group, coordinates relative
+//    to the leaves' parent's centre, no padding between sibling leaves): the kernel adds the quadrature points of every
 //    triangle that is not near and flags the rest as candidates, which are
 //    re-checked in double and evaluated by the model's near rule: the closed
 //    form (double) only within 1.75 radii; from there to the model's 2.5
 //    radii the degree-6 rule on the triangle's four midpoint children (float)
 //    is as accurate, see tracer_field.cpp; to 4 radii the degree-6 rule.
-//  - Points that share a target leaf are evaluated together, source leaf by
-//    source leaf, so a leaf's float block is loaded into L1 once for all of
-//    them.
+//  - Points that share a target leaf are evaluated together, block by
+//    block, so a block is loaded into L1 once for all of them.
 // Same model as Fmm::evaluate, the slow twin: equal to float rounding except in the
 // split band, where the difference is below the model's quadrature error.
 #pragma once
 
 #include <cstddef>
+#include <cstdint>
 #include <memory>
 #include <utility>
 #include <vector>
@@ -77,14 +77,31 @@ class TracerField {
   size_t m2l_operations() const { return m2l_ops_; }
 
  private:
-  // One source leaf: its triangles are tree positions [first, first + count);
-  // its float block (tracer_kernels.h: `groups` groups of 8 triangle slots,
-  // coordinates relative to mc) starts at blocks_[block].
-  struct Span {
+  // Float blocks (tracer_kernels.h) hold the leaf children of one source
+  // cell back to back, coordinates relative to that cell's expansion centre
+  // mc: padding to the SIMD width once per block, not once per leaf (one
+  // near-list slot in six was padding with a block per leaf). Block b's
+  // groups start at blocks_[block]; its slots at slot_tri_[slot0] (the tree
+  // position of each slot's triangle, -1 for padding).
+  struct Block {
     Vec3 mc;
-    int first = 0, count = 0, groups = 0;
-    size_t block = 0;
+    int groups = 0;
+    size_t block = 0, slot0 = 0;
   };
+  // One source leaf: the slots [first_slot, first_slot + count) of block `block`.
+  struct Span {
+    int block = 0, first_slot = 0, count = 0;
+  };
+  // A target leaf's near list as runs of groups of one block, each group with
+  // the lanes of the listed leaves selected (masks[mask0 + g]).
+  struct NearRun {
+    int block = 0, g0 = 0, groups = 0, mask0 = 0;
+  };
+  struct NearPlan {
+    std::vector<NearRun> runs;
+    std::vector<uint8_t> masks;
+  };
+  void build_near_plan(int leaf);
 
   // The triangles (tree positions ks[0..n)) the float kernel flagged as
   // possibly near x: adds their field at x to e[0..3) by the model's rule
@@ -103,7 +120,7 @@ class TracerField {
   const Fmm& fmm_;
   int m_;                                  // quadrature points per triangle
   std::vector<double> pq_;                 // quadrature point charges, tree order
-  std::vector<float> blocks_;              // per source leaf, see Span
+  std::vector<float> blocks_;              // see Block
   std::vector<double> tri_charge_;         // per triangle, tree order
   struct NearTriangle;                     // tracer_field.cpp
   std::vector<NearTriangle> near_tris_;    // per triangle, tree order
@@ -111,6 +128,9 @@ class TracerField {
   std::vector<NearTest> near_test_;        // per triangle, tree order: what classifying a candidate reads
   std::vector<int> span_of_cell_;          // source cell -> index into spans_ (-1: not a leaf)
   std::vector<Span> spans_;
+  std::vector<Block> block_list_;
+  std::vector<int> slot_tri_;              // per block slot: tree position, -1 padding
+  std::vector<NearPlan> plans_;            // per target cell; built with its expansion
   int threads_;
   int ncoef_;
   std::vector<double> M_;                  // multipole moments, ncoef_ per source cell
