@@ -18,6 +18,10 @@
 //   --seed-weld-corners, --no-reweld, --strict-retry F, --no-grow-while-bad:
 //                     session 6's levers off (session 5's pipeline: all four,
 //                     F = 1.2).
+//   --candidate NAME:K=V,..  one more (proxy, atlas) candidate for the search
+//                     (parse_map_candidate's keys; repeatable); --no-candidates:
+//                     the run's own alone (the A/B switch). Rows carry
+//                     candidates (atlas.candidates) and candidate_chosen.
 //
 // Rows carry seconds (wall) and cpu_seconds (process user + sys during the
 // run; the machine may be shared), per-stage seconds, threads, peak_rss_mb,
@@ -146,6 +150,11 @@ nlohmann::json row(const Input& in, const std::string& method, const Timed& run)
                            {"by_class", tail["by_class"]}};
     }
     r["charge_iterations"] = d["charge"].value("iterations", 0);
+    if (d["atlas"].contains("candidates")) {
+      r["candidates"] = d["atlas"]["candidates"];
+      for (const auto& c : d["atlas"]["candidates"])
+        if (c["chosen"].get<bool>()) r["candidate_chosen"] = c["name"];
+    }
     // The most continuity a low-distortion atlas can reach (cones on seams).
     if (d["uv"].contains("continuity_bound")) r["continuity_bound"] = d["uv"]["continuity_bound"];
   }
@@ -170,7 +179,12 @@ void apply_switches(const bench::Args& args, MapOptions& o) {
       o.seed_weld_edge_fraction = std::stod(args.rest[i + 1]);
     if (args.rest[i] == "--strict-retry" && i + 1 < args.rest.size())
       o.repair_strict_retry = std::stod(args.rest[i + 1]);
+    if (args.rest[i] == "--candidate" && i + 1 < args.rest.size())
+      o.candidates.push_back(parse_map_candidate(args.rest[i + 1]));
   }
+  // After the list is complete: --no-candidates keeps the run's own alone.
+  for (const auto& a : args.rest)
+    if (a == "--no-candidates") o.candidates.resize(std::min<size_t>(o.candidates.size(), 1));
 }
 
 MapOptions base_options(const Input& in, const bench::Args& args, double offset, bool repair) {
@@ -323,7 +337,8 @@ int run_pipeline(const bench::Args& args) {
   for (auto& [name, r] : summary["samples"].items()) {
     nlohmann::json slim;
     for (const char* k : {"seconds", "continuity", "continuity_1texel", "flipped_fraction", "stretch_l2",
-                          "stretch_median", "islands", "box_continuity", "box_islands"})
+                          "stretch_median", "islands", "charts", "candidate_chosen", "box_continuity",
+                          "box_islands"})
       if (r.contains(k)) slim[k] = r[k];
     r = slim;
   }

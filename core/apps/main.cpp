@@ -102,6 +102,15 @@ Usage:
                              are joined again where nothing folds)
       --reweld-density E     ... a joined triangle's symmetric Dirichlet energy
                              per area may reach E (8; 4 = isometric)
+      --candidate NAME:K=V,..  one more (proxy, atlas) candidate landed against the
+                             same field lines; on small coarse soups the one with
+                             the best welded continuity within flipped <= 0.5 %
+                             and L2 <= 1.3 is kept (keys: angle, alt_angle,
+                             no_alt_angles, stretch, merge_cone, merge_area,
+                             merge_fill, relax, relax_band, relax_stretch,
+                             offset); repeatable; atlas.candidates in diagnostics
+      --no-candidates        only this run's own proxy and atlas
+      --candidate-max-triangles N  search on soups of at most N triangles (20000)
       --no-refine-intersections  --no-orient  --no-share-lines  --no-chart-fix
       --no-chart-neighbours
 

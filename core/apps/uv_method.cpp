@@ -2,6 +2,7 @@
 // -> soupuv::run_map, plus the optional debug files.
 #include "uv_method.h"
 
+#include <algorithm>
 #include <fstream>
 #include <memory>
 
@@ -192,6 +193,16 @@ bool parse_method_flag(const std::vector<std::string>& args, size_t& i, MethodFl
   } else if (a == "--repair-stretch") {
     o.repair.stretch_threshold = number(a, value());
     if (!(o.repair.stretch_threshold > 1)) throw UsageError{"--repair-stretch needs a factor > 1"};
+  } else if (a == "--no-candidates") {
+    o.candidates.resize(std::min<size_t>(o.candidates.size(), 1));
+  } else if (a == "--candidate") {
+    try {
+      o.candidates.push_back(parse_map_candidate(value()));
+    } catch (const Error& e) {
+      throw UsageError{std::string("--candidate: ") + e.what()};
+    }
+  } else if (a == "--candidate-max-triangles") {
+    o.candidates_max_triangles = size_t(integer(a, value(), 0, 100000000));
   } else if (a == "--no-chart-fix") {
     o.transfer.fix_chart_boundaries = false;
   } else {

@@ -72,6 +72,13 @@ struct MapCandidate {
 // map_defaults.cpp says why each is on the list.
 std::vector<MapCandidate> map_candidates();
 
+// "NAME:K=V,K=V" -> a candidate on top of map_atlas_defaults(), for the CLI's
+// --candidate and the benches' A/B runs. Keys: angle (segmentation budget,
+// deg), alt_angle (one more budget), no_alt_angles, stretch, merge_cone,
+// merge_area, merge_fill, relax (0/1), relax_band, relax_stretch, offset
+// (proxy_offset_fraction). Throws Error{invalid_input} on anything else.
+MapCandidate parse_map_candidate(const std::string& spec);
+
 struct MapOptions {
   MapMethod method = MapMethod::field;
   proxy::ProxyOptions proxy = map_proxy_defaults();
@@ -217,6 +224,20 @@ struct MapOptions {
   // soup triangles per proxy face: continuity 0.987 -> 0.989, L2 1.281 ->
   // 1.312, over the 1.3 target; map_defaults.cpp has the figures).
   double relax_max_soup_per_proxy_face = 8;
+
+  // Candidates chosen by measured quality (pipeline/candidates.h). The first
+  // entry stands for this run's own `proxy` and `atlas` (only its name is
+  // read); every further entry is landed against the same field lines and
+  // the one with the best weld-measured continuity within the two bounds
+  // below is kept (the first when none is). Fewer than two entries: one run,
+  // exactly as without a search. The search runs only on soups of at most
+  // candidates_max_triangles and at most relax_max_soup_per_proxy_face soup
+  // triangles per face of the first proxy (0: no coarseness gate), so the
+  // fine soups (bunnies, 100k torus) keep one run.
+  std::vector<MapCandidate> candidates = map_candidates();
+  size_t candidates_max_triangles = 20000;
+  double candidate_max_flipped = 0.005;
+  double candidate_max_stretch_l2 = 1.3;
 
   int threads = 0;             // total budget; 0 = OpenMP default
   cache::Store* cache = nullptr;  // shared, thread-safe; nullptr = no cache

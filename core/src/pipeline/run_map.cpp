@@ -8,7 +8,9 @@
 #include <thread>
 
 #include "pipeline/field_branch.h"
-#include "pipeline/seam_weights.h"
+#include "pipeline/candidates.h"
+#include "pipeline/proxy_branch.h"
+#include "pipeline/uv_stage.h"
 #include "soupuv/baseline/box_projection.h"
 #include "soupuv/cache/store.h"
 #include "soupuv/errors.h"
@@ -16,8 +18,6 @@
 #include "soupuv/quality/discontinuity.h"
 #include "soupuv/quality/stretch_tail.h"
 #include "soupuv/quality/uv_metrics.h"
-#include "soupuv/transfer/intersect.h"
-#include "soupuv/transfer/uv_reweld.h"
 
 namespace soupuv {
 
@@ -33,42 +33,17 @@ Progress child_of(Progress& parent) {
   return Progress([&parent](std::string_view stage, double f) { parent.update(stage, f); });
 }
 
-struct ProxyBranch {
-  proxy::ProxyResult proxy;
-  atlas::AtlasResult atlas;
-  double seconds_proxy = 0, seconds_atlas = 0;
-};
-
-ProxyBranch run_proxy_branch(const Soup& soup, const MapOptions& options, int threads,
-                             Progress& progress) {
-  ProxyBranch b;
-  proxy::ProxyOptions po = options.proxy;
-  po.threads = threads;
-  auto t0 = Clock::now();
-  b.proxy = proxy::build_proxy(soup, po, progress);
-  b.seconds_proxy = since(t0);
-  atlas::AtlasOptions ao = options.atlas;
-  ao.threads = threads;
-  auto t1 = Clock::now();
-  const double soup_per_proxy_face =
-      double(soup.triangles.size()) / double(std::max<size_t>(1, b.proxy.proxy.mesh.faces.size()));
-  if (options.relax_max_soup_per_proxy_face > 0 &&
-      soup_per_proxy_face > options.relax_max_soup_per_proxy_face)
-    ao.relax_seams = false;
-  // Seams placed by cost: a seam through fine soup cuts more pairs.
-  if (ao.relax_seams && ao.soup_seam_weights && ao.seam_weight.empty())
-    ao.seam_weight = soup_seam_weights(soup, b.proxy.proxy.mesh, threads);
-  b.atlas = atlas::build_atlas(b.proxy.proxy.mesh, ao, progress);
-  b.seconds_atlas = since(t1);
-  return b;
-}
-
-// The metric's weld: the original's own vertices, else the soup's corners
-// welded by position.
-quality::Weld metric_weld(const Soup& soup, const MapOptions& options) {
-  if (options.original) return quality::weld_corners(*options.original, 0.0);
+// The soup's corners welded by position: the metric's weld without an
+// original, and always the candidate choice's.
+quality::Weld soup_weld(const Soup& soup, const MapOptions& options) {
   const double diag = bounding_box(soup).diagonal();
   return quality::weld_corners(soup, options.weld_tolerance * diag, options.weld_edge_fraction);
+}
+
+// The metric's weld: the original's own vertices, else soup_weld.
+quality::Weld metric_weld(const Soup& soup, const MapOptions& options) {
+  if (options.original) return quality::weld_corners(*options.original, 0.0);
+  return soup_weld(soup, options);
 }
 
 std::vector<quality::AdjacentPair> metric_pairs(const Soup& soup, const MapOptions& options) {
@@ -161,6 +136,76 @@ quality::TailFlags tail_flags(const Soup& soup, const pipeline::FieldBranchResul
   return f;
 }
 
+// The candidate search: candidate 0 is the run already made (pb, uv); each
+// further one gets its proxy (rebuilt only for its own offset), its atlas and
+// the UV stage against the same field. The choice sees the weld-inferred
+// adjacency only. pb and uv become the chosen candidate's. Returns
+// atlas.candidates.
+nlohmann::json search_candidates(const Soup& soup, const pipeline::FieldBranchResult& field,
+                                 const MapOptions& options, const pipeline::UvStageWelds& welds,
+                                 int threads, pipeline::ProxyBranch& pb, pipeline::UvStage& uv,
+                                 Progress& progress) {
+  const std::vector<quality::AdjacentPair> weld_pairs =
+      options.original ? quality::edge_adjacency(soup_weld(soup, options), soup.triangles.size())
+                       : *welds.adjacency;
+  const size_t k = options.candidates.size();
+  auto figures_of = [&](const pipeline::ProxyBranch& b, const pipeline::UvStage& u, size_t i) {
+    quality::UvMetricsOptions mo;
+    mo.texture_size = options.metrics_texture_size;
+    mo.uv_per_length = b.atlas.atlas.uv_per_length;
+    const quality::UvMetrics m = quality::uv_metrics(soup, u.tr.corner_uvs, weld_pairs, mo);
+    pipeline::CandidateFigures f;
+    f.name = options.candidates[i].name;
+    f.continuity = m.continuity;
+    f.flipped_fraction = m.flipped_fraction;
+    f.stretch_l2 = m.stretch_l2;
+    f.charts = b.atlas.atlas.chart_count;
+    return f;
+  };
+  progress.update("candidates", 0);  // an edge report: always delivered
+  std::vector<pipeline::CandidateFigures> figures;
+  auto t0 = Clock::now();
+  figures.push_back(figures_of(pb, uv, 0));
+  figures[0].seconds = pb.seconds_proxy + pb.seconds_atlas + uv.seconds_transfer + uv.seconds_repair + since(t0);
+  pipeline::ProxyBranch best_branch;
+  pipeline::UvStage best_uv;
+  for (size_t i = 1; i < k; ++i) {
+    // One fraction per candidate: the stages inside restart their own.
+    const double at = double(i) / double(k);
+    Progress inner([&progress, at](std::string_view, double) { progress.update("candidates", at); });
+    progress.update("candidates", at);
+    const MapCandidate& c = options.candidates[i];
+    auto t_candidate = Clock::now();
+    pipeline::ProxyBranch b;
+    if (c.proxy_offset_fraction > 0) {
+      proxy::ProxyOptions po = options.proxy;
+      po.offset_mode = proxy::OffsetMode::relative;
+      po.offset = c.proxy_offset_fraction;
+      b = pipeline::run_proxy_branch(soup, po, c.atlas, options.relax_max_soup_per_proxy_face, threads, inner);
+    } else {
+      b.proxy = pb.proxy;  // the first proxy: its atlas alone differs
+      pipeline::build_branch_atlas(soup, b, c.atlas, options.relax_max_soup_per_proxy_face, threads, inner);
+    }
+    pipeline::UvStage u = pipeline::run_uv_stage(soup, field, b, options, welds, threads, inner);
+    pipeline::CandidateFigures f = figures_of(b, u, i);
+    f.proxy_rebuilt = c.proxy_offset_fraction > 0;
+    f.seconds = since(t_candidate);
+    figures.push_back(f);
+    // Keep only the best so far besides the first run.
+    if (pipeline::choose_candidate(figures, options) == i) {
+      best_branch = std::move(b);
+      best_uv = std::move(u);
+    }
+  }
+  progress.update("candidates", 1);
+  const size_t chosen = pipeline::choose_candidate(figures, options);
+  if (chosen != 0) {
+    pb = std::move(best_branch);
+    uv = std::move(best_uv);
+  }
+  return pipeline::candidates_json(figures, chosen, options);
+}
+
 MapResult run_box(const Soup& soup, const MapOptions& options, Progress& progress) {
   auto t0 = Clock::now();
   MapResult r;
@@ -235,10 +280,11 @@ MapResult run_map(const Soup& soup, const MapOptions& options, Progress& progres
       proxy_progress.cancel();
     }
   });
-  ProxyBranch pb;
+  pipeline::ProxyBranch pb;
   std::exception_ptr proxy_error;
   try {
-    pb = run_proxy_branch(soup, options, proxy_threads, proxy_progress);
+    pb = pipeline::run_proxy_branch(soup, options.proxy, options.atlas,
+                                    options.relax_max_soup_per_proxy_face, proxy_threads, proxy_progress);
   } catch (...) {
     proxy_error = std::current_exception();
     field_progress.cancel();
@@ -254,107 +300,43 @@ MapResult run_map(const Soup& soup, const MapOptions& options, Progress& progres
   if (proxy_error) std::rethrow_exception(proxy_error);
 
   // Transfer: the branches meet.
-  transfer::TransferOptions to = options.transfer;
-  to.threads = total_threads;
-  std::vector<quality::AdjacentPair> neighbours;
   quality::Weld weld;
   if (options.chart_fix_neighbours || options.uv_repair)
     weld = options.weld_by_edges
                ? quality::weld_by_edges(soup, options.edge_weld_tolerance * diag)
                : quality::weld_corners(soup, options.weld_tolerance * diag, options.weld_edge_fraction);
-  if (options.chart_fix_neighbours) {
-    neighbours = quality::edge_adjacency(weld, soup.triangles.size());
-    to.neighbours = &neighbours;
-  }
-  auto t_transfer = Clock::now();
-  transfer::TransferResult tr =
-      field.line_of_corner.empty()
-          ? transfer::transfer_uvs(soup, field.lines, pb.proxy.proxy, pb.atlas.atlas, to, progress)
-          : transfer::transfer_uvs(soup, field.lines, field.line_of_corner, pb.proxy.proxy,
-                                   pb.atlas.atlas, to, progress);
-  size_t cut_corrected = 0;
-  if (!field.probes.empty()) {
-    std::vector<Vec3> starts;
-    for (const auto& p : field.probes) starts.insert(starts.end(), p.points.begin(), p.points.end());
-    std::vector<Vec3> ordered(field.probe_lines.size());
-    for (size_t i = 0; i < field.probe_lines.size(); ++i) ordered[i] = starts[field.probe_lines.corner[i]];
-    auto landing = transfer::land_lines(field.probe_lines, ordered, pb.proxy.proxy);
-    std::vector<Vec2> probe_uvs(starts.size(), Vec2{0, 0});
-    for (size_t i = 0; i < landing.size(); ++i)
-      probe_uvs[field.probe_lines.corner[i]] = transfer::atlas_uv(pb.atlas.atlas, landing[i]);
-    cut_corrected = transfer::apply_cut_probes(soup, field.probes, probe_uvs, tr.corner_uvs);
-  }
-  double seconds_transfer = since(t_transfer);
-
-  double metric_seconds = 0;
+  std::vector<quality::AdjacentPair> neighbours;
+  if (options.chart_fix_neighbours) neighbours = quality::edge_adjacency(weld, soup.triangles.size());
   const auto adjacency = metric_pairs(soup, options);
-  // The repair, with the figures of the unrepaired map beside it so every
-  // run shows what the post-process changed.
-  nlohmann::json repair_json = {{"enabled", options.uv_repair}};
-  double seconds_repair = 0;
-  const std::vector<std::array<Vec2, 3>> unrepaired = options.uv_repair ? tr.corner_uvs
-                                                                        : decltype(tr.corner_uvs){};
-  if (options.uv_repair) {
-    double before_seconds = 0;
-    const quality::UvMetrics before = measure(soup, tr.corner_uvs, adjacency, options,
-                                              pb.atlas.atlas.uv_per_length, before_seconds);
-    // A triangle's chart: the one two of its corners landed on (else corner
-    // 0's); the repair moves a corner on another chart onto it.
-    std::vector<int> corner_chart(tr.landing.size()), chart(soup.triangles.size());
-    for (size_t c = 0; c < corner_chart.size(); ++c)
-      corner_chart[c] = pb.atlas.atlas.face_chart[tr.landing[c].face];
-    for (size_t t = 0; t < chart.size(); ++t) {
-      const int* k = &corner_chart[3 * t];
-      chart[t] = k[1] == k[2] ? k[1] : k[0];
-    }
-    transfer::UvRepairOptions ro = options.repair;
-    if (options.repair_split_triangles) ro.corner_chart = &corner_chart;
-    // The copies that share a line share a UV: the repair must move them
-    // together, or it cuts the pairs the shared lines made continuous.
-    quality::Weld line_weld;
-    if (field.line_of_corner.size() == 3 * soup.triangles.size()) {
-      line_weld.corner_vertex = field.line_of_corner;
-      line_weld.vertex_count = uint32_t(field.lines.size());
-    }
-    const quality::Weld& repair_weld =
-        options.repair_weld_lines && !line_weld.corner_vertex.empty() ? line_weld : weld;
-    transfer::UvRepairResult rep = transfer::repair_uvs(
-        soup, repair_weld, chart, pb.atlas.atlas.uv_per_length, tr.corner_uvs, ro, progress);
-    seconds_repair = rep.seconds;
-    repair_json.update(rep.diagnostics());
-    // Patches that failed mostly sit where the weld joined distinct vertices
-    // (rows of the soup closer than its noise). Retry the triangles still bad
-    // on a stricter weld that leaves ambiguous edges unmatched: a sparser but
-    // mostly right surface the repair can lay flat.
-    if (rep.failed_patches > 0 && options.weld_by_edges && options.repair_strict_retry > 1) {
-      const quality::Weld strict =
-          quality::weld_by_edges(soup, options.edge_weld_tolerance * diag, options.repair_strict_retry);
-      transfer::UvRepairOptions retry = ro;
-      retry.only_triangles = &rep.failed_triangles;  // elsewhere the first pass did its best
-      transfer::UvRepairResult again = transfer::repair_uvs(
-          soup, strict, chart, pb.atlas.atlas.uv_per_length, tr.corner_uvs, retry, progress);
-      seconds_repair += again.seconds;
-      repair_json["strict_retry"] = again.diagnostics();
-    }
-    // Copies the repair left apart on one chart go back to one UV where that
-    // folds nothing (transfer/uv_reweld.h).
-    if (options.uv_reweld) {
-      const transfer::UvReweldResult rw = transfer::reweld_uvs(
-          soup, line_weld.corner_vertex.empty() ? weld : line_weld, chart,
-          pb.atlas.atlas.uv_per_length, tr.corner_uvs, options.reweld);
-      seconds_repair += rw.seconds;
-      repair_json["reweld"] = rw.diagnostics();
-    }
-    repair_json["before"] = {{"flipped_fraction", before.flipped_fraction},
-                             {"stretch_l2", before.stretch_l2},
-                             {"stretch_median", before.stretch_median},
-                             {"continuity", before.continuity},
-                             {"continuity_1texel", before.continuity_1texel},
-                             {"islands", before.islands}};
-    repair_json["options"] = {{"stretch_threshold", options.repair.stretch_threshold},
-                              {"expansion_threshold", options.repair.expansion_threshold},
-                              {"max_growth", options.repair.max_growth}};
+  pipeline::UvStageWelds welds{&weld, options.chart_fix_neighbours ? &neighbours : nullptr, &adjacency};
+  pipeline::UvStage uv = pipeline::run_uv_stage(soup, field, pb, options, welds, total_threads, progress);
+
+  // Candidates (pipeline/candidates.h): the same field landed on other
+  // (proxy, atlas) variants; the best by weld-measured quality is kept.
+  // The stages' seconds are the first run's; the other candidates' time is
+  // the "candidates" stage's, so the stages add up to the run.
+  const double seconds_proxy = pb.seconds_proxy, seconds_atlas = pb.seconds_atlas;
+  const double seconds_transfer = uv.seconds_transfer, seconds_repair = uv.seconds_repair;
+  nlohmann::json candidates_list, candidate_search;
+  double seconds_candidates = 0;
+  const double coarseness = pipeline::soup_per_proxy_face(soup, pb.proxy);
+  const bool search = pipeline::candidate_search_runs(soup.triangles.size(), coarseness, options);
+  if (search) {
+    auto t_candidates = Clock::now();
+    candidates_list = search_candidates(soup, field, options, welds, total_threads, pb, uv, progress);
+    seconds_candidates = since(t_candidates);
   }
+  if (options.candidates.size() > 1)
+    candidate_search = {{"ran", search},
+                        {"offered", options.candidates.size()},
+                        {"max_triangles", options.candidates_max_triangles},
+                        {"soup_per_proxy_face", coarseness},
+                        {"seconds", seconds_candidates}};
+  transfer::TransferResult& tr = uv.tr;
+  const size_t cut_corrected = uv.cut_corrected;
+  const std::vector<std::array<Vec2, 3>>& unrepaired = uv.unrepaired;
+  nlohmann::json& repair_json = uv.repair;
+  double metric_seconds = 0;
   quality::UvMetrics m = measure(soup, tr.corner_uvs, adjacency, options,
                                  pb.atlas.atlas.uv_per_length, metric_seconds);
   quality::CornerLanding landed;
@@ -387,11 +369,12 @@ MapResult run_map(const Soup& soup, const MapOptions& options, Progress& progres
       {"intersections", {{"seconds", field.seconds_refine}}},
       {"charge", {{"seconds", field.seconds_charge}, {"cached", field.charges_cached}}},
       {"trace", {{"seconds", field.seconds_trace}, {"cached", field.lines_cached}}},
-      {"proxy", {{"seconds", pb.seconds_proxy}}},
-      {"atlas", {{"seconds", pb.seconds_atlas}}},
+      {"proxy", {{"seconds", seconds_proxy}}},
+      {"atlas", {{"seconds", seconds_atlas}}},
       {"transfer", {{"seconds", seconds_transfer}}},
       {"uv_repair", {{"seconds", seconds_repair}}},
       {"metrics", {{"seconds", metric_seconds}}}};
+  if (search) d["stages"]["candidates"] = {{"seconds", seconds_candidates}};
   d["proxy"] = pb.proxy.diagnostics();
   d["proxy"]["closed"] = pb.proxy.closed;
   d["proxy"]["manifold"] = pb.proxy.manifold;
@@ -399,6 +382,8 @@ MapResult run_map(const Soup& soup, const MapOptions& options, Progress& progres
   d["atlas"] = pb.atlas.diagnostics();
   d["atlas"]["charts"] = pb.atlas.atlas.chart_count;
   d["atlas"]["uv_per_length"] = pb.atlas.atlas.uv_per_length;
+  if (search) d["atlas"]["candidates"] = candidates_list;
+  if (!candidate_search.is_null()) d["atlas"]["candidate_search"] = candidate_search;
   d["charge"] = field.charge;
   d["trace"] = field.trace;
   d["trace"]["lines"] = tr.lines;
