@@ -14,7 +14,8 @@
 //                        repeatable), no_alt_angles (clears them), stretch
 //                        (max_stretch), merge (0/1), merge_crease,
 //                        merge_area, merge_fill, merge_cone
-//                        (merge_max_normal_deviation_deg), pack_splits,
+//                        (merge_max_normal_deviation_deg), merge_stretch
+//                        (merge_max_stretch), pack_splits,
 //                        split_below, relax (0/1: seam relaxation),
 //                        relax_band, relax_stretch, relax_narrow, soup_weights (0/1: seam weights from
 //                        the soup's edge density, with relax),
@@ -93,6 +94,7 @@ Variant parse_variant(const std::string& text) {
     else if (key == "merge_area") a.merge_max_area_fraction = value;
     else if (key == "merge_fill") a.merge_min_fill = value;
     else if (key == "merge_cone") a.merge_max_normal_deviation_deg = value;
+    else if (key == "merge_stretch") a.merge_max_stretch = value;
     else if (key == "pack_splits") a.packing_split_rounds = int(value);
     else if (key == "split_below") a.packing_split_below = value;
     else if (key == "relax") a.relax_seams = value != 0;
@@ -214,6 +216,7 @@ int run_atlas_pipeline(const bench::Args& args) {
       std::cerr << "atlas-pipeline: " << s.name << " / " << variants[v].name << "\n";
       MapOptions o;
       o.atlas = variants[v].atlas;
+      o.candidates.clear();  // the variant alone, not the pipeline's candidate search
       o.cache = &store;
       o.original = s.noisy_soup ? &original : nullptr;
       o.keep_debug = charts;

@@ -145,11 +145,12 @@ Charted chart_with_budget(const TriMesh& mesh, const MeshTopology& topology, con
   }
   stats.seconds_parameterize = since(t1);
 
+  const double merge_budget = options.merge_max_stretch > 0 ? options.merge_max_stretch : options.max_stretch;
   if (options.merge_charts) {
     const auto tm = Clock::now();
     progress.update("atlas.merge", 0);
     MergeOptions merge;
-    merge.max_stretch = options.max_stretch;
+    merge.max_stretch = merge_budget;
     merge.arap_iterations = options.arap_iterations;
     merge.crease_deg = options.merge_crease_deg;
     merge.max_area_fraction = options.merge_max_area_fraction;
@@ -163,7 +164,7 @@ Charted chart_with_budget(const TriMesh& mesh, const MeshTopology& topology, con
   if (options.relax_seams) {
     progress.update("atlas.relax", 0);
     RelaxOptions relax;
-    relax.max_stretch = options.max_stretch;
+    relax.max_stretch = options.merge_charts ? merge_budget : options.max_stretch;
     relax.arap_iterations = options.arap_iterations;
     relax.band_fraction = options.relax_band;
     relax.max_stretch_increase = options.relax_max_stretch_increase;
@@ -300,6 +301,8 @@ AtlasResult build_atlas(const TriMesh& mesh, const AtlasOptions& options, Progre
     throw Error(ErrorCode::invalid_input, "atlas: merge_max_normal_deviation_deg must be in [0, 180]");
   if (!(options.max_stretch >= 1))
     throw Error(ErrorCode::invalid_input, "atlas: max_stretch must be at least 1");
+  if (!(options.merge_max_stretch == 0 || options.merge_max_stretch >= 1))
+    throw Error(ErrorCode::invalid_input, "atlas: merge_max_stretch must be 0 or at least 1");
   if (!options.seam_weight.empty()) {
     if (options.seam_weight.size() != mesh.faces.size())
       throw Error(ErrorCode::invalid_input, "atlas: seam_weight needs one weight per face");

@@ -161,6 +161,39 @@ TEST(BuildAtlas, MergeConeLimitsChartsWrappingAround) {
   EXPECT_GT(coned.stats.charts, wide.stats.charts);
 }
 
+// merge_max_stretch lets merged charts flatten worse than the segmentation's
+// budget (the pipeline's candidates trade the atlas's stretch for seams):
+// no more charts and shorter seams, every chart still a disk without flips or
+// overlap, the stretch within the merge budget and not within the old one.
+TEST(BuildAtlas, MergeStretchBudgetTradesStretchForSeams) {
+  TriMesh sphere = shapes::sphere_with(1.0, 2000);
+  AtlasOptions o;
+  o.max_normal_deviation_deg = 70;
+  o.merge_charts = true;
+  o.merge_max_area_fraction = 1;
+  o.merge_min_fill = 0;
+  AtlasResult tight = build_atlas(sphere, o, Progress::none());
+  o.merge_max_stretch = 1.3;
+  AtlasResult loose = build_atlas(sphere, o, Progress::none());
+  std::printf("sphere merged at 1.05 / 1.3: %d / %d charts, seams %.3f / %.3f, L2 %.3f / %.3f\n",
+              tight.stats.charts, loose.stats.charts, tight.stats.seam_length, loose.stats.seam_length,
+              tight.stats.stretch_l2, loose.stats.stretch_l2);
+  // Measured: 2 / 2 charts, seams 8.29 / 4.88, L2 1.016 / 1.133.
+  EXPECT_LE(loose.stats.charts, tight.stats.charts);
+  EXPECT_LT(loose.stats.seam_length, 0.8 * tight.stats.seam_length);
+  EXPECT_LE(tight.stats.stretch_l2, o.max_stretch);
+  EXPECT_GT(loose.stats.stretch_l2, o.max_stretch);
+  EXPECT_LE(loose.stats.stretch_l2, o.merge_max_stretch);
+  EXPECT_EQ(loose.stats.flipped, 0);
+  EXPECT_EQ(atlas_checks::overlapping_pairs(loose.atlas), 0);
+  for (const auto& c : atlas_checks::chart_topology(sphere, loose.atlas)) {
+    EXPECT_EQ(c.euler, 1);
+    EXPECT_EQ(c.boundary_loops, 1);
+  }
+  o.merge_max_stretch = 0.5;
+  EXPECT_THROW(build_atlas(sphere, o, Progress::none()), Error);
+}
+
 TEST(BuildAtlas, SmallTextureKeepsPadding) {
   AtlasOptions o;
   o.texture_size = 256;

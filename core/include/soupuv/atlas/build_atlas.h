@@ -83,6 +83,12 @@ struct AtlasOptions {
   // chart fix to pull together when a soup triangle's corners land on both
   // sides of it.
   double merge_max_normal_deviation_deg = 0;
+  // Stretch budget of a merged chart (and of the relaxation that moves its
+  // seams); 0 = max_stretch. Above max_stretch it trades the atlas's own
+  // stretch for fewer seams: the segmentation still splits at max_stretch,
+  // only unions may flatten worse (the pipeline's candidates measure whether
+  // the soup can afford it).
+  double merge_max_stretch = 0;
   // Seam relaxation after flattening and merging: the boundary between two
   // neighbouring charts moves to the cheapest cut inside a band of
   // relax_band * sqrt(smaller chart's area) around it, where an edge costs
