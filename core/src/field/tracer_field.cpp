@@ -29,7 +29,8 @@ struct TracerField::NearTriangle {
 struct TracerField::NearTest {
   Vec3 centroid;
   double radius = 0;
-  double near2 = 0, closed2 = 0;  // squared radii of SourceGeometry::is_near / is_closed_form
+  double near2 = 0;               // squared radius of SourceGeometry::is_near
+  double whole2 = 0, split2 = 0;  // squared radii of the bands above (kWholeFactor, kSplitFactor)
   bool has_area = false;
 };
 
@@ -78,15 +79,25 @@ void to_float(Vec3 v, float* f) {
 
 }  // namespace
 
-// The model (sources.h) takes the closed form within closed_factor radii of a
-// triangle's centroid. Between kSplitFactor and closed_factor radii the tracer
-// instead splits the triangle into its four midpoint children and applies the
-// degree-6 rule to each: a child has half the radius and its centroid lies
-// within r/2 of the parent's, so at d >= 1.75 r every child is at least
-// 2.5 of its own radii away, the distance at which the sources' model already
-// trusts the degree-6 rule (field rel. error <= 5e-6). This halves the
-// closed forms (six atan2, three logs each) that dominate the near field.
-constexpr double kSplitFactor = 1.75;
+// The model (sources.h) takes the closed form within closed_factor (2.5)
+// radii of a triangle's centroid and the degree-6 rule from there to
+// near_factor (4) radii, where the triangle's own degree-4 rule takes over.
+// Its worst per-triangle field error is that of the degree-4 rule at 4 radii:
+// 1.9e-5 relative (measured over directions in and off the plane, equilateral
+// to sliver triangles). The tracer spends up to the same per-triangle error
+// for speed, so the model's worst error does not grow:
+//  - from kWholeFactor (2.25) radii on, the degree-6 rule on the triangle
+//    (worst 1.84e-5 at 2.25 radii; 7.3e-6 at 2.5);
+//  - from kSplitFactor (1.55) radii, the degree-6 rule on the triangle's four
+//    midpoint children: a child has half the radius and its centroid lies
+//    within r/2 of the parent's, so every child is at least 2.1 of its own
+//    radii away (worst 1.64e-5 at 1.55 radii);
+//  - the closed form (six atan2, three logs) only below.
+// Session 6 had 2.5 and 1.75 (worst 7.3e-6 and 3.4e-6). Near a surface the
+// candidates in a band grow with its area: ~22 % fewer closed forms and ~17 %
+// fewer 48-point children rules, each band's rest now 12 points.
+constexpr double kWholeFactor = 2.25;
+constexpr double kSplitFactor = 1.55;
 
 TracerField::TracerField(const Fmm& fmm, const std::vector<double>& charges, int threads)
     : fmm_(fmm),
@@ -119,10 +130,13 @@ TracerField::TracerField(const Fmm& fmm, const std::vector<double>& charges, int
     t.centroid = src.centroid[j];
     t.radius = src.radius[j];
     t.has_area = src.area[j] > 0;
-    // Computed as SourceGeometry::is_near / is_closed_form do, so the tests agree bit for bit.
-    const double rn = src.near_factor * src.radius[j], rc = src.closed_factor * src.radius[j];
+    // Computed as SourceGeometry::is_near does, so the tests agree bit for bit.
+    const double rn = src.near_factor * src.radius[j];
     t.near2 = rn * rn;
-    t.closed2 = rc * rc;
+    // Never beyond the model's own closed-form zone (a model with a smaller closed_factor).
+    const double whole = std::min(kWholeFactor, src.closed_factor), split = std::min(kSplitFactor, whole);
+    t.whole2 = whole * whole * src.radius[j] * src.radius[j];
+    t.split2 = split * split * src.radius[j] * src.radius[j];
   }
   // Float blocks (tracer_kernels.h): the leaf children of each source cell
   // back to back (a leaf without a parent, the root, alone), relative to that
@@ -411,7 +425,6 @@ void TracerField::near_candidates(const int* ks, int n, Vec3 x, double* e, doubl
   near.clear();
   double closest_centroid2 = std::numeric_limits<double>::infinity();
   int closest = -1;
-  const bool split_band = kSplitFactor < fmm_.src_.closed_factor;
   for (int c = 0; c < n; ++c) {
     const int k = ks[c];
     const NearTest& t = near_test_[k];
@@ -428,9 +441,8 @@ void TracerField::near_candidates(const int* ks, int n, Vec3 x, double* e, doubl
     }
     if (!t.has_area) continue;
     const NearTriangle& tri = near_tris_[k];
-    const double r = t.radius;
-    if (!(d2 < t.closed2) || (split_band && d2 >= kSplitFactor * kSplitFactor * r * r)) {
-      batch.add(!(d2 < t.closed2), x, tri.frame, q, e);
+    if (!(d2 < t.split2)) {
+      batch.add(!(d2 < t.whole2), x, tri.frame, q, e);
     } else {
       const Vec3 f = (q / tri.area) * tracer::closed_form_field(tri.frame, x);
       e[0] += f.x;

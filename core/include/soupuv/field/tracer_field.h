@@ -24,14 +24,16 @@
 //    leaves (tracer_kernels.h: 8 triangles per SIMD group, coordinates relative
 //    to the leaves' parent's centre, no padding between sibling leaves): the kernel adds the quadrature points of every
 //    triangle that is not near and flags the rest as candidates, which are
-//    re-checked in double and evaluated by the model's near rule: the closed
-//    form (double) only within 1.75 radii; from there to the model's 2.5
-//    radii the degree-6 rule on the triangle's four midpoint children (float)
-//    is as accurate, see tracer_field.cpp; to 4 radii the degree-6 rule.
+//    re-checked in double and evaluated by the near rule: the closed
+//    form (double) only within 1.55 radii; from there to 2.25 radii the
+//    degree-6 rule on the triangle's four midpoint children (float); to 4
+//    radii the degree-6 rule. The model (sources.h) has the closed form to 2.5
+//    radii; the tracer's cheaper bands keep every triangle within the model's
+//    own worst per-triangle error (see tracer_field.cpp).
 //  - Points that share a target leaf are evaluated together, block by
 //    block, so a block is loaded into L1 once for all of them.
 // Same model as Fmm::evaluate, the slow twin: equal to float rounding except in the
-// split band, where the difference is below the model's quadrature error.
+// bands, where the difference is below the model's quadrature error.
 #pragma once
 
 #include <cstddef>
