@@ -108,17 +108,23 @@ class BatchField {
   void evaluate(const std::vector<Vec3>& x, std::vector<int>& leaf, std::vector<Vec3>& E,
                 std::vector<double>* nearest) {
     const long n = static_cast<long>(x.size());
-    E.assign(n, Vec3{0, 0, 0});
-    if (nearest) nearest->assign(n, std::numeric_limits<double>::infinity());
-    if (direct_) return evaluate_direct(x, E, nearest);
+    if (direct_) {
+      E.assign(n, Vec3{0, 0, 0});
+      if (nearest) nearest->assign(n, std::numeric_limits<double>::infinity());
+      return evaluate_direct(x, E, nearest);
+    }
+    // Every point belongs to one chunk below, which writes its E and nearest.
+    E.resize(n);
+    if (nearest) nearest->resize(n);
     const int nth = n >= kParallelMinPoints ? threads_ : 1;
-#pragma omp parallel for num_threads(nth) schedule(static)
-    for (long i = 0; i < n; ++i) leaf[i] = tracer_->locate(x[i], leaf[i]);
     // Sort by leaf (key: leaf in the high bits, point in the low) and cut the
     // runs into chunks small enough to balance the threads.
     keys_.resize(n);
-    for (long i = 0; i < n; ++i)
+#pragma omp parallel for num_threads(nth) schedule(static)
+    for (long i = 0; i < n; ++i) {
+      leaf[i] = tracer_->locate(x[i], leaf[i]);
       keys_[i] = (static_cast<uint64_t>(static_cast<uint32_t>(leaf[i] + 1)) << 32) | static_cast<uint32_t>(i);
+    }
     sort_by_high_word(keys_, scratch_);
     constexpr long kChunk = 32;
     chunks_.clear();
@@ -271,8 +277,9 @@ FieldLines trace_field_lines(const ChargeResult& charges, const std::vector<Trac
     lines[s].push_back(seeds[s].position);
     lines[s].push_back(pos[s]);
   }
-  std::vector<double> nearest;
+  std::vector<double> nearest, h;
   std::vector<Vec3> Efirst;
+  std::vector<uint8_t> keep;
   // Trapped lines (options.trapped_steps): per line, how many steps in a row
   // it has been within 2 eps of the soup (where the step is the floor eps).
   const bool detect_trapped = options.adaptive_step && options.trapped_steps > 0;
@@ -302,17 +309,23 @@ FieldLines trace_field_lines(const ChargeResult& charges, const std::vector<Trac
   for (int k = 0; k < options.max_steps && !active.empty(); ++k) {
     progress.update("trace", 0.05 + 0.9 * k / double(options.max_steps));
     const size_t na = active.size();
+    const long nal = static_cast<long>(na);
+    // The per-line loops of a step run on the threads too: serial, they were
+    // a few ms per step at 100k lines while the other threads waited.
+    const int step_threads = nal >= kParallelMinPoints ? nth : 1;
     X.resize(na);
     leaf.resize(na);
-    for (size_t a = 0; a < na; ++a) {
+#pragma omp parallel for num_threads(step_threads) schedule(static)
+    for (long a = 0; a < nal; ++a) {
       X[a] = pos[active[a]];
       leaf[a] = line_leaf[active[a]];
     }
     field.evaluate(X, leaf, E, options.adaptive_step ? &nearest : nullptr);
     evaluations += na;
     // Step lengths; a line whose field vanished stops here (h = 0 marks it).
-    std::vector<double> h(na, 0.0);
-    for (size_t a = 0; a < na; ++a) {
+    h.assign(na, 0.0);
+#pragma omp parallel for num_threads(step_threads) schedule(static)
+    for (long a = 0; a < nal; ++a) {
       line_leaf[active[a]] = leaf[a];
       if (!(norm(E[a]) > stalled_field)) {
         ends[active[a]] = LineEnd::stalled;
@@ -329,12 +342,14 @@ FieldLines trace_field_lines(const ChargeResult& charges, const std::vector<Trac
     }
     Efirst = E;
     if (midpoint) {
-      for (size_t a = 0; a < na; ++a)
+#pragma omp parallel for num_threads(step_threads) schedule(static)
+      for (long a = 0; a < nal; ++a)
         if (h[a] > 0) X[a] = X[a] + (0.5 * h[a] / norm(E[a])) * E[a];
       leaf_p = leaf;
       field.evaluate(X, leaf_p, Ep, nullptr);
       evaluations += na;
-      for (size_t a = 0; a < na; ++a) {
+#pragma omp parallel for num_threads(step_threads) schedule(static)
+      for (long a = 0; a < nal; ++a) {
         if (!(h[a] > 0)) continue;
         if (!(norm(Ep[a]) > stalled_field)) {
           ends[active[a]] = LineEnd::stalled;
@@ -344,21 +359,28 @@ FieldLines trace_field_lines(const ChargeResult& charges, const std::vector<Trac
         E[a] = Ep[a];
       }
     }
-    size_t kept = 0;
-    for (size_t a = 0; a < na; ++a) {
+    // Move the lines (in parallel), then keep the active ones in order (serial, cheap).
+    keep.assign(na, 0);
+    size_t stepped = 0;
+#pragma omp parallel for num_threads(step_threads) schedule(static) reduction(+ : stepped)
+    for (long a = 0; a < nal; ++a) {
       const long s = active[a];
       if (!(h[a] > 0)) continue;  // stalled or trapped
       last_dir[s] = Efirst[a] / norm(Efirst[a]);
       last_h[s] = h[a];
       pos[s] = pos[s] + (h[a] / norm(E[a])) * E[a];
-      ++steps_total;
+      ++stepped;
       if (options.keep_points) lines[s].push_back(pos[s]);
       if (norm(pos[s] - center) > stop_radius || outside(options.stop_box, pos[s])) {
         ends[s] = LineEnd::escaped;
         continue;
       }
-      active[kept++] = s;
+      keep[a] = 1;
     }
+    steps_total += stepped;
+    size_t kept = 0;
+    for (size_t a = 0; a < na; ++a)
+      if (keep[a]) active[kept++] = active[a];
     active.resize(kept);
   }
   FieldLines out;
