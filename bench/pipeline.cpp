@@ -163,6 +163,12 @@ nlohmann::json row(const Input& in, const std::string& method, const Timed& run)
     r["repaired_triangles"] = d["uv_repair"]["repaired_triangles"];
     r["before_repair"] = d["uv_repair"]["before"];
     r["repair_failed_patches"] = d["uv_repair"]["failed_patches"];
+    r["repair_failed_detail"] = d["uv_repair"]["failed_detail"];
+    if (d["uv_repair"].contains("strict_retry"))
+      r["repair_strict_retry"] = {{"failed_patches", d["uv_repair"]["strict_retry"]["failed_patches"]},
+                                  {"seconds", d["uv_repair"]["strict_retry"]["seconds"]},
+                                  {"failed_detail", d["uv_repair"]["strict_retry"]["failed_detail"]}};
+    r["repair_seconds"] = d["uv_repair"]["seconds"];
   }
   return r;
 }

@@ -11,6 +11,7 @@
 #include "pipeline/candidates.h"
 #include "pipeline/proxy_branch.h"
 #include "pipeline/uv_stage.h"
+#include "pipeline/weld_cache.h"
 #include "soupuv/baseline/box_projection.h"
 #include "soupuv/cache/store.h"
 #include "soupuv/errors.h"
@@ -142,7 +143,7 @@ quality::TailFlags tail_flags(const Soup& soup, const pipeline::FieldBranchResul
 // adjacency only. pb and uv become the chosen candidate's. Returns
 // atlas.candidates.
 nlohmann::json search_candidates(const Soup& soup, const pipeline::FieldBranchResult& field,
-                                 const MapOptions& options, const pipeline::UvStageWelds& welds,
+                                 const MapOptions& options, pipeline::UvStageWelds& welds,
                                  int threads, pipeline::ProxyBranch& pb, pipeline::UvStage& uv,
                                  Progress& progress) {
   const std::vector<quality::AdjacentPair> weld_pairs =
@@ -272,9 +273,12 @@ MapResult run_map(const Soup& soup, const MapOptions& options, Progress& progres
   Progress proxy_progress = child_of(progress);
   pipeline::FieldBranchResult field;
   std::exception_ptr field_error;
+  double seconds_field_branch = 0;
   std::thread field_thread([&] {
     try {
+      auto t_field = Clock::now();
       field = pipeline::run_field_branch(soup, hash, fo, options.cache, field_progress);
+      seconds_field_branch = since(t_field);
     } catch (...) {
       field_error = std::current_exception();
       proxy_progress.cancel();
@@ -300,15 +304,27 @@ MapResult run_map(const Soup& soup, const MapOptions& options, Progress& progres
   if (proxy_error) std::rethrow_exception(proxy_error);
 
   // Transfer: the branches meet.
+  auto t_weld = Clock::now();
   quality::Weld weld;
+  bool weld_cached = false;
   if (options.chart_fix_neighbours || options.uv_repair)
-    weld = options.weld_by_edges
-               ? quality::weld_by_edges(soup, options.edge_weld_tolerance * diag)
-               : quality::weld_corners(soup, options.weld_tolerance * diag, options.weld_edge_fraction);
+    weld = pipeline::cached_weld(
+        options.cache, hash,
+        options.weld_by_edges
+            ? pipeline::weld_recipe("edges", {options.edge_weld_tolerance * diag, 1.0})
+            : pipeline::weld_recipe("corners", {options.weld_tolerance * diag, options.weld_edge_fraction}),
+        [&] {
+          return options.weld_by_edges
+                     ? quality::weld_by_edges(soup, options.edge_weld_tolerance * diag)
+                     : quality::weld_corners(soup, options.weld_tolerance * diag, options.weld_edge_fraction);
+        },
+        weld_cached);
   std::vector<quality::AdjacentPair> neighbours;
   if (options.chart_fix_neighbours) neighbours = quality::edge_adjacency(weld, soup.triangles.size());
   const auto adjacency = metric_pairs(soup, options);
-  pipeline::UvStageWelds welds{&weld, options.chart_fix_neighbours ? &neighbours : nullptr, &adjacency};
+  const double seconds_weld = since(t_weld);
+  pipeline::UvStageWelds welds{&weld, options.chart_fix_neighbours ? &neighbours : nullptr, &adjacency,
+                               options.cache, hash, nullptr};
   pipeline::UvStage uv = pipeline::run_uv_stage(soup, field, pb, options, welds, total_threads, progress);
 
   // Candidates (pipeline/candidates.h): the same field landed on other
@@ -339,6 +355,7 @@ MapResult run_map(const Soup& soup, const MapOptions& options, Progress& progres
   double metric_seconds = 0;
   quality::UvMetrics m = measure(soup, tr.corner_uvs, adjacency, options,
                                  pb.atlas.atlas.uv_per_length, metric_seconds);
+  auto t_report = Clock::now();
   quality::CornerLanding landed;
   landed.missed = tr.missed;
   landed.first_chart = tr.first_chart;
@@ -375,6 +392,11 @@ MapResult run_map(const Soup& soup, const MapOptions& options, Progress& progres
       {"uv_repair", {{"seconds", seconds_repair}}},
       {"metrics", {{"seconds", metric_seconds}}}};
   if (search) d["stages"]["candidates"] = {{"seconds", seconds_candidates}};
+  // The rest of the run, so the stages add up: the soup's welds for §8, the
+  // repair and the metric; the field branch's cache look-up and decoding
+  // when it computed nothing; the report's breakdowns below (filled in last).
+  d["stages"]["weld"] = {{"seconds", seconds_weld}, {"cached", weld_cached}};
+  if (field.lines_cached) d["stages"]["field_cache"] = {{"seconds", seconds_field_branch}};
   d["proxy"] = pb.proxy.diagnostics();
   d["proxy"]["closed"] = pb.proxy.closed;
   d["proxy"]["manifold"] = pb.proxy.manifold;
@@ -415,6 +437,7 @@ MapResult run_map(const Soup& soup, const MapOptions& options, Progress& progres
   if (!pb.proxy.ok()) warnings.push_back("the proxy failed a check (see proxy.*)");
   add_continuity_bound(d["uv"], soup, options, adjacency, warnings);
   d["warnings"] = warnings;
+  d["stages"]["report"] = {{"seconds", since(t_report)}};
   d["seconds"] = since(t0);
 
   if (options.keep_debug) {

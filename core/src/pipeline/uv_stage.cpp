@@ -2,6 +2,7 @@
 
 #include <chrono>
 
+#include "pipeline/weld_cache.h"
 #include "soupuv/quality/uv_metrics.h"
 #include "soupuv/transfer/intersect.h"
 #include "soupuv/transfer/uv_reweld.h"
@@ -14,7 +15,7 @@ double since(Clock::time_point t0) { return std::chrono::duration<double>(Clock:
 }  // namespace
 
 UvStage run_uv_stage(const Soup& soup, const FieldBranchResult& field, const ProxyBranch& branch,
-                     const MapOptions& options, const UvStageWelds& welds, int threads,
+                     const MapOptions& options, UvStageWelds& welds, int threads,
                      Progress& progress) {
   const proxy::ProxyResult& px = branch.proxy;
   const atlas::Atlas& atlas = branch.atlas.atlas;
@@ -80,8 +81,15 @@ UvStage run_uv_stage(const Soup& soup, const FieldBranchResult& field, const Pro
   // on a stricter weld that leaves ambiguous edges unmatched: a sparser but
   // mostly right surface the repair can lay flat.
   if (rep.failed_patches > 0 && options.weld_by_edges && options.repair_strict_retry > 1) {
-    const quality::Weld strict =
-        quality::weld_by_edges(soup, options.edge_weld_tolerance * diag, options.repair_strict_retry);
+    if (!welds.strict) {
+      bool hit = false;
+      welds.strict = std::make_shared<quality::Weld>(cached_weld(
+          welds.cache, welds.soup_hash,
+          weld_recipe("edges", {options.edge_weld_tolerance * diag, options.repair_strict_retry}),
+          [&] { return quality::weld_by_edges(soup, options.edge_weld_tolerance * diag, options.repair_strict_retry); },
+          hit));
+    }
+    const quality::Weld& strict = *welds.strict;
     transfer::UvRepairOptions retry = ro;
     retry.only_triangles = &rep.failed_triangles;  // elsewhere the first pass did its best
     transfer::UvRepairResult again = transfer::repair_uvs(soup, strict, chart, atlas.uv_per_length,

@@ -14,6 +14,8 @@
 #pragma once
 
 #include <array>
+#include <memory>
+#include <string>
 #include <vector>
 
 #include <nlohmann/json.hpp>
@@ -29,6 +31,11 @@ struct UvStageWelds {
   const quality::Weld* weld = nullptr;  // edge weld (§8 neighbours, repair)
   const std::vector<quality::AdjacentPair>* neighbours = nullptr;  // null: §8 per triangle
   const std::vector<quality::AdjacentPair>* adjacency = nullptr;   // metric pairs
+  // The strict retry's weld comes from this cache (pipeline/weld_cache.h)
+  // and, once built, is kept here for the next candidate.
+  cache::Store* cache = nullptr;
+  std::string soup_hash;
+  std::shared_ptr<quality::Weld> strict;
 };
 
 struct UvStage {
@@ -40,7 +47,7 @@ struct UvStage {
 };
 
 UvStage run_uv_stage(const Soup& soup, const FieldBranchResult& field, const ProxyBranch& branch,
-                     const MapOptions& options, const UvStageWelds& welds, int threads,
+                     const MapOptions& options, UvStageWelds& welds, int threads,
                      Progress& progress);
 
 }  // namespace soupuv::pipeline

@@ -5,7 +5,9 @@
 #include <filesystem>
 
 #include "pipeline_support.h"
+#include "../../../core/src/pipeline/weld_cache.h"
 #include "soupuv/cache/store.h"
+#include "soupuv/quality/weld.h"
 
 using namespace soupuv;
 using namespace soupuv::testing;
@@ -50,4 +52,37 @@ TEST(CacheRerun, DirectoryStoreServesANewProcessStore) {
   MapResult again = run_map(soup, o);
   EXPECT_TRUE(again.diagnostics["stages"]["trace"]["cached"].get<bool>());
   EXPECT_GE(fresh.stats().disk_hits, 1u);
+}
+
+// The soup's welds depend on the soup alone: a re-run with a new offset
+// reads them from the cache (pipeline/weld_cache.h), and what it reads is
+// the weld itself.
+TEST(CacheRerun, NewOffsetReusesTheSoupWelds) {
+  Soup soup = shapes::to_soup(shapes::sphere_with(1.0, 300), 1e-3, 4);
+  cache::Store store;
+  MapOptions o = fast_options();
+  o.cache = &store;
+  MapResult first = run_map(soup, o);
+  EXPECT_FALSE(first.diagnostics["stages"]["weld"]["cached"].get<bool>());
+  o.proxy.offset = 0.05;
+  MapResult second = run_map(soup, o);
+  EXPECT_TRUE(second.diagnostics["stages"]["weld"]["cached"].get<bool>());
+
+  const std::string hash = geometry_hash(soup);
+  const double tol = 4e-3 * bounding_box(soup).diagonal();
+  const quality::Weld direct = quality::weld_by_edges(soup, tol, 1.05);
+  const std::string recipe = pipeline::weld_recipe("edges", {tol, 1.05});
+  bool hit = true;
+  cache::Store fresh;
+  auto compute = [&] { return quality::weld_by_edges(soup, tol, 1.05); };
+  const quality::Weld missed = pipeline::cached_weld(&fresh, hash, recipe, compute, hit);
+  EXPECT_FALSE(hit);
+  const quality::Weld read = pipeline::cached_weld(&fresh, hash, recipe, compute, hit);
+  EXPECT_TRUE(hit);
+  EXPECT_EQ(read.vertex_count, direct.vertex_count);
+  EXPECT_TRUE(read.corner_vertex == direct.corner_vertex);
+  EXPECT_TRUE(missed.corner_vertex == direct.corner_vertex);
+  // Another recipe is another key.
+  pipeline::cached_weld(&fresh, hash, pipeline::weld_recipe("edges", {tol, 1.2}), compute, hit);
+  EXPECT_FALSE(hit);
 }

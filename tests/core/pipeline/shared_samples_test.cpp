@@ -29,6 +29,7 @@ nlohmann::json map_shared(const std::string& name) {
   const Soup soup = io::load_file(dir + name + "-soup.glb").soup;
   const Soup original = io::load_file(dir + name + "-soup.original.glb").soup;
   MapOptions o = fast_options();
+  o.candidates = map_candidates();  // the product: the search on these coarse soups
   o.original = &original;
   o.uv_repair = true;
   return run_map(soup, o).diagnostics;
@@ -59,8 +60,13 @@ void check(const Sample& s) {
 // here, continuity / flipped / L2: suzanne 0.9505 / 0 % / 1.11, spot 0.972 /
 // 0 % / 1.11, teapot 0.955 / 0.06 % / 1.10. Floors a little under them
 // (one suzanne pair is 0.0007 of continuity); teapot's is the 0.95.
-TEST(SharedSamples, Suzanne) { check({"suzanne", 0.005, 1.3, 0.94}); }
+// Session 7, the candidate search (map_candidates(), chosen by welded
+// continuity within 0.5 % / 1.3), measured here (loaded machine):
+// suzanne 0.9686 / 0 % / 1.116 (nc110), spot 0.9825 / 0 % / 1.149 (nc110;
+// 0.984 / 1.23 with nc150 on the list), teapot 0.9581 / 0.06 % / 1.10
+// (c130). Spot's L2 floor is the 1.3, which the search enforces.
+TEST(SharedSamples, Suzanne) { check({"suzanne", 0.005, 1.3, 0.96}); }
 
-TEST(SharedSamples, Spot) { check({"spot", 0.005, 1.2, 0.96}); }
+TEST(SharedSamples, Spot) { check({"spot", 0.005, 1.3, 0.975}); }
 
-TEST(SharedSamples, Teapot) { check({"teapot", 0.005, 1.2, 0.95}); }
+TEST(SharedSamples, Teapot) { check({"teapot", 0.005, 1.2, 0.955}); }

@@ -1,0 +1,44 @@
+#include "pipeline/weld_cache.h"
+
+#include <sstream>
+
+#include "soupuv/cache/bytes.h"
+#include "soupuv/cache/store.h"
+
+namespace soupuv::pipeline {
+
+namespace {
+// Bump when a weld's algorithm or this layout changes.
+constexpr const char* kWeldCacheVersion = "weld-cache-1";
+}  // namespace
+
+std::string weld_recipe(const std::string& kind, std::initializer_list<double> parameters) {
+  std::ostringstream s;
+  s.precision(17);
+  s << kind;
+  for (double p : parameters) s << ' ' << p;
+  return s.str();
+}
+
+quality::Weld cached_weld(cache::Store* store, const std::string& soup_hash, const std::string& recipe,
+                          const std::function<quality::Weld()>& compute, bool& hit) {
+  hit = false;
+  if (!store) return compute();
+  const std::string key = cache::cache_key({"weld", kWeldCacheVersion, soup_hash, recipe});
+  if (auto bytes = store->get(key)) {
+    cache::ByteReader rd(*bytes);
+    quality::Weld w;
+    w.vertex_count = rd.get<uint32_t>();
+    w.corner_vertex = rd.get_vector<uint32_t>();
+    hit = true;
+    return w;
+  }
+  quality::Weld w = compute();
+  cache::ByteWriter wr;
+  wr.put<uint32_t>(w.vertex_count);
+  wr.put_vector(w.corner_vertex);
+  store->put(key, wr.take());
+  return w;
+}
+
+}  // namespace soupuv::pipeline
