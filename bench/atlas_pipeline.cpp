@@ -15,7 +15,8 @@
 //                        (max_stretch), merge (0/1), merge_crease,
 //                        merge_area, merge_fill, merge_cone
 //                        (merge_max_normal_deviation_deg), merge_stretch
-//                        (merge_max_stretch), pack_splits,
+//                        (merge_max_stretch), merge_sweeps
+//                        (merge_stretch_sweeps), pack_splits,
 //                        split_below, relax (0/1: seam relaxation),
 //                        relax_band, relax_stretch, relax_narrow, soup_weights (0/1: seam weights from
 //                        the soup's edge density, with relax),
@@ -24,6 +25,8 @@
 //                        length, fraction of the diagonal; default: the
 //                        offset).
 //   --quick              suzanne and Fox, the pipeline's atlas only.
+//   --dump-uvs DIR       also write DIR/MESH-VARIANT.uv.txt: per soup triangle
+//                        its corners' x y z u v (to draw the seams).
 //   --charts             also, per (sample, variant), the stretch tail and one
 //                        line per chart: where the soup's stretch comes from
 //                        (soup area landed on the chart, the soup's L2 there,
@@ -37,6 +40,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <fstream>
 #include <iostream>
 #include <sstream>
 
@@ -95,6 +99,7 @@ Variant parse_variant(const std::string& text) {
     else if (key == "merge_fill") a.merge_min_fill = value;
     else if (key == "merge_cone") a.merge_max_normal_deviation_deg = value;
     else if (key == "merge_stretch") a.merge_max_stretch = value;
+    else if (key == "merge_sweeps") a.merge_stretch_sweeps = int(value);
     else if (key == "pack_splits") a.packing_split_rounds = int(value);
     else if (key == "split_below") a.packing_split_below = value;
     else if (key == "relax") a.relax_seams = value != 0;
@@ -177,9 +182,23 @@ double cpu_seconds() {
          1e-6 * double(u.ru_utime.tv_usec + u.ru_stime.tv_usec);
 }
 
+// One line per soup triangle: its three corners' x y z u v, to look at where
+// the seams run (scripts outside the repo draw them).
+void dump_uvs(const std::string& path, const Soup& soup, const MapResult& r) {
+  std::ofstream out(path);
+  for (size_t t = 0; t < soup.triangles.size(); ++t) {
+    for (int k = 0; k < 3; ++k) {
+      const Vec3 p = soup.corner(t, k);
+      const Vec2 uv = r.corner_uvs[3 * t + k];
+      out << p.x << ' ' << p.y << ' ' << p.z << ' ' << uv.x << ' ' << uv.y << (k < 2 ? ' ' : '\n');
+    }
+  }
+}
+
 int run_atlas_pipeline(const bench::Args& args) {
   std::vector<std::string> only;
   std::vector<Variant> variants;
+  std::string dump_dir;
   const bool charts = std::find(args.rest.begin(), args.rest.end(), "--charts") != args.rest.end();
   for (size_t i = 0; i + 1 < args.rest.size(); ++i) {
     if (args.rest[i] == "--only") {
@@ -187,6 +206,7 @@ int run_atlas_pipeline(const bench::Args& args) {
       for (std::string n; std::getline(list, n, ',');) only.push_back(n);
     }
     if (args.rest[i] == "--variant") variants.push_back(parse_variant(args.rest[i + 1]));
+    if (args.rest[i] == "--dump-uvs") dump_dir = args.rest[i + 1];
   }
   if (variants.empty()) variants.push_back(parse_variant("pipeline"));
   if (args.quick && only.empty()) only = {"suzanne", "Fox"};
@@ -231,6 +251,7 @@ int run_atlas_pipeline(const bench::Args& args) {
       const auto t0 = std::chrono::steady_clock::now();
       MapResult r = run_map(soup, o);
       const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+      if (!dump_dir.empty()) dump_uvs(dump_dir + "/" + s.name + "-" + variants[v].name + ".uv.txt", soup, r);
       const nlohmann::json& d = r.diagnostics;
       const nlohmann::json& uv = d["uv"];
       const nlohmann::json& a = d["atlas"];

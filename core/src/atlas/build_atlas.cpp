@@ -151,6 +151,7 @@ Charted chart_with_budget(const TriMesh& mesh, const MeshTopology& topology, con
     progress.update("atlas.merge", 0);
     MergeOptions merge;
     merge.max_stretch = merge_budget;
+    merge.stretch_sweeps = options.merge_stretch_sweeps;
     merge.arap_iterations = options.arap_iterations;
     merge.crease_deg = options.merge_crease_deg;
     merge.max_area_fraction = options.merge_max_area_fraction;
@@ -301,6 +302,8 @@ AtlasResult build_atlas(const TriMesh& mesh, const AtlasOptions& options, Progre
     throw Error(ErrorCode::invalid_input, "atlas: merge_max_normal_deviation_deg must be in [0, 180]");
   if (!(options.max_stretch >= 1))
     throw Error(ErrorCode::invalid_input, "atlas: max_stretch must be at least 1");
+  if (options.merge_stretch_sweeps < 0)
+    throw Error(ErrorCode::invalid_input, "atlas: merge_stretch_sweeps must not be negative");
   if (!(options.merge_max_stretch == 0 || options.merge_max_stretch >= 1))
     throw Error(ErrorCode::invalid_input, "atlas: merge_max_stretch must be 0 or at least 1");
   if (!options.seam_weight.empty()) {

@@ -14,7 +14,7 @@
 #include <array>
 #include <vector>
 
-#include "atlas/mesh_topology.h"
+#include "mesh_topology.h"  // relative: the tests include this header by path
 #include "soupuv/mesh.h"
 
 namespace soupuv::atlas {

@@ -94,7 +94,8 @@ int merge_charts(const TriMesh& mesh, const MeshTopology& t, const std::vector<c
       }
       merged[i].mesh = extract_chart(mesh, t, faces, face_chart, seam, face_local);
       if (!merged[i].mesh.is_disk()) continue;
-      ChartParameterization p = parameterize_chart(merged[i].mesh, options.arap_iterations, options.max_stretch);
+      ChartParameterization p = parameterize_chart(merged[i].mesh, options.arap_iterations, options.max_stretch,
+                                                   options.stretch_sweeps);
       if (!p.ok) continue;
       if (options.min_fill > 0) {
         double uv_area = 0;

@@ -30,6 +30,7 @@ namespace soupuv::atlas {
 struct MergeOptions {
   double max_stretch = 1.05;
   int arap_iterations = 10;
+  int stretch_sweeps = 0;  // L2-stretch descent after ARAP (stretch_descent.h)
   double crease_deg = 60;
   // Big or ragged charts pack badly (a square of few large charts fills
   // little of it): a merge is refused when the union would hold more than

@@ -7,6 +7,7 @@
 #include <Eigen/Sparse>
 #include <Eigen/SparseCholesky>
 
+#include "atlas/stretch_descent.h"
 #include "atlas/triangle_metrics.h"
 
 namespace soupuv::atlas {
@@ -272,14 +273,21 @@ double chart_stretch_l2(const ChartMesh& c, const std::vector<Vec2>& uv) {
 }
 
 ChartParameterization parameterize_chart(const ChartMesh& c, int arap_iterations,
-                                         double max_stretch) {
+                                         double max_stretch, int stretch_sweeps) {
   ChartParameterization r;
   std::vector<Vec2> conformal = lscm(c);
   if (conformal.empty()) { r.why = "solver"; return r; }
   std::vector<Vec2> isometric = arap(c, conformal, arap_iterations);
-  // ARAP is preferred; LSCM is the fallback when ARAP folds a face over.
+  scale_to_3d_area(c, isometric);
+  // The descent starts from ARAP's result and never folds a face, so it is
+  // tried first; ARAP's own result, then LSCM, are the fallbacks when the
+  // descended boundary crosses itself (or ARAP folded a face over).
+  std::vector<Vec2> descended;
+  if (stretch_sweeps > 0 && count_flipped(c, isometric) == 0)
+    descended = descend_l2_stretch(c, isometric, stretch_sweeps);
   r.why = "flip";
-  for (std::vector<Vec2>* uv : {&isometric, &conformal}) {
+  for (std::vector<Vec2>* uv : {&descended, &isometric, &conformal}) {
+    if (uv->empty()) continue;
     scale_to_3d_area(c, *uv);
     if (count_flipped(c, *uv) > 0) continue;
     if (boundary_self_intersects(c, *uv)) { r.why = "overlap"; continue; }

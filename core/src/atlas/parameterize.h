@@ -1,8 +1,10 @@
 // Flattening of one disk chart: LSCM (Lévy et al. 2002) as the conformal
-// start, then ARAP local/global iterations (Liu et al. 2008) toward isometry.
+// start, then ARAP local/global iterations (Liu et al. 2008) toward isometry,
+// then optionally sweeps of descent on the L2 stretch itself
+// (stretch_descent.h).
 //
-// Inputs:  a ChartMesh that is a topological disk, ARAP iteration count and
-//          the stretch budget.
+// Inputs:  a ChartMesh that is a topological disk, ARAP iteration count, the
+//          stretch budget and the stretch-descent sweeps (0 = none).
 // Output:  a UV per local vertex, in units of 3D length (the chart is scaled
 //          so its UV area equals its 3D area), and whether it is valid: no
 //          flipped face, a boundary that does not cross itself (together these
@@ -13,7 +15,7 @@
 #include <string>
 #include <vector>
 
-#include "atlas/chart_mesh.h"
+#include "chart_mesh.h"  // relative: the tests include this header by path
 
 namespace soupuv::atlas {
 
@@ -25,7 +27,7 @@ struct ChartParameterization {
 };
 
 ChartParameterization parameterize_chart(const ChartMesh& chart, int arap_iterations,
-                                         double max_stretch);
+                                         double max_stretch, int stretch_sweeps = 0);
 
 // Exposed for tests: the pieces above on their own.
 std::vector<Vec2> lscm(const ChartMesh& chart);

@@ -89,6 +89,10 @@ struct AtlasOptions {
   // only unions may flatten worse (the pipeline's candidates measure whether
   // the soup can afford it).
   double merge_max_stretch = 0;
+  // Sweeps of descent on the L2 stretch itself after ARAP when a merge
+  // flattens its union (0 = ARAP only): big merged charts flatten at lower
+  // L2 than ARAP gives them, so more merges fit the budget.
+  int merge_stretch_sweeps = 0;
   // Seam relaxation after flattening and merging: the boundary between two
   // neighbouring charts moves to the cheapest cut inside a band of
   // relax_band * sqrt(smaller chart's area) around it, where an edge costs
