@@ -19,13 +19,16 @@
 // --max-turn T (the adaptive step, TraceOptions), --min-triangles N,
 // --max-triangles N, --direct-max N, --direct-budget PAIRS, --seeds corners,
 // --no-study, --study-only, --study-triangles N, --repeat R (FMM rows: the
-// fastest of R runs; first_run_seconds / first_run_cpu_seconds: the first).
+// fastest of R runs; first_run_seconds / first_run_cpu_seconds: the first),
+// --field-kernel (only the evaluator's cost per point, see run_field_kernel).
 #include <sys/resource.h>
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <limits>
+#include <random>
 #include <string>
 
 #include "bench_registry.h"
@@ -196,7 +199,7 @@ TraceOptions table5_fmm() {
 struct Flags {
   size_t min_tris = 0, max_tris = 204800, direct_max = 12800, study_tris = 12800;
   double direct_budget = 1e9;  // point-triangle pairs the direct run may spend per size
-  bool corners = false, study = true, table = true;
+  bool corners = false, study = true, table = true, kernel = false;
   int repeat = 1;
   TraceOptions trace = table5_fmm();
 };
@@ -207,6 +210,77 @@ TraceOptions table5_options(const Flags& f) {
   o.step = 0.02;
   o.stop_radius = 100;  // 50 full steps for every line
   return o;
+}
+
+// --field-kernel: TracerField::field alone, one thread, on 20,000 points at
+// 1e-3 .. 0.3 above random surface points of the torus (the heights a line
+// passes), two points per call as the tracer's batches mostly give; the best
+// and the median of R passes (--repeat, default 25). Short passes and the
+// best of many make it a steadier A/B measure of the evaluator than a whole
+// trace on a loaded machine. Charges proportional to area (no solve: the cost
+// does not depend on their values); not part of the default run.
+void run_field_kernel(const Flags& f) {
+  const int reps = f.repeat > 1 ? f.repeat : 25;
+  for (int n : {800, 1800, 3200, 6400, 12800, 25600, 51200, 105800, 204800}) {
+    if (static_cast<size_t>(n) > f.max_tris) break;
+    if (static_cast<size_t>(n) < f.min_tris) continue;
+    const Soup soup = shapes::to_soup(shapes::torus_with(1.0, 0.5, n));
+    const SourceGeometry src = make_sources(soup.positions, soup.triangles, 4);
+    std::vector<double> q(src.size());
+    double total = 0;
+    for (double a : src.area) total += a;
+    for (size_t j = 0; j < src.size(); ++j) q[j] = src.area[j] / total;
+    FmmOptions fo;
+    fo.order = f.trace.fmm_order;
+    fo.theta = f.trace.fmm_theta;
+    fo.leaf_size = f.trace.fmm_leaf_size;
+    fo.threads = 1;
+    Box3 region;
+    region.add({-3, -3, -3});
+    region.add({3, 3, 3});
+    Fmm fmm(src, fo, region);
+    TracerField tf(fmm, q, 1);
+    std::mt19937 rng(5);
+    std::uniform_real_distribution<double> u(0.0, 1.0);
+    std::vector<std::pair<int, Vec3>> points;
+    for (int i = 0; i < 20000; ++i) {
+      const size_t t = std::min(src.size() - 1, static_cast<size_t>(u(rng) * src.size()));
+      const Vec3 normal = normalized(cross(src.b[t] - src.a[t], src.c[t] - src.a[t]));
+      const Vec3 x = src.centroid[t] + (1e-3 * std::pow(300.0, u(rng))) * normal;
+      points.push_back({tf.locate(x), x});
+    }
+    std::sort(points.begin(), points.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
+    std::vector<int> leaves;
+    std::vector<Vec3> xs;
+    for (const auto& [leaf, x] : points) {
+      leaves.push_back(leaf);
+      xs.push_back(x);
+    }
+    tf.prepare(leaves);
+    std::vector<Vec3> E(xs.size());
+    std::vector<double> nearest(xs.size());
+    std::vector<double> pass;
+    for (int r = 0; r < reps; ++r) {
+      std::fill(E.begin(), E.end(), Vec3{0, 0, 0});
+      const auto t0 = std::chrono::steady_clock::now();
+      for (size_t s = 0; s < xs.size();) {
+        size_t e = s + 1;
+        while (e < xs.size() && e - s < 2 && leaves[e] == leaves[s]) ++e;
+        tf.field(leaves[s], &xs[s], static_cast<int>(e - s), &E[s], &nearest[s]);
+        s = e;
+      }
+      pass.push_back(std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
+    }
+    std::sort(pass.begin(), pass.end());
+    const double us = 1e6 / static_cast<double>(xs.size());
+    bench::emit({{"suite", "trace"}, {"kind", "field_kernel"}, {"shape", "torus"}, {"triangles", n},
+                 {"method", "tracer-field"}, {"points", xs.size()}, {"seconds", pass.front()},
+                 {"seconds_median", pass[pass.size() / 2]}, {"repeat", reps}, {"threads", 1},
+                 {"us_per_point", us * pass.front()}, {"us_per_point_median", us * pass[pass.size() / 2]},
+                 {"fmm_order", fo.order}, {"fmm_theta", fo.theta}, {"fmm_leaf_size", fo.leaf_size}});
+    std::fprintf(stderr, "trace field kernel n=%d: %.3f us/point best of %d (median %.3f)\n", n, us * pass.front(), reps,
+                 us * pass[pass.size() / 2]);
+  }
 }
 
 void run_table5(const Flags& f, const bench::Args& args) {
@@ -417,7 +491,12 @@ int run_trace(const bench::Args& args) {
     else if (a == "--seeds" && has) f.corners = args.rest[++i] == "corners";
     else if (a == "--repeat" && has) f.repeat = std::max(1, std::stoi(args.rest[++i]));
     else if (a == "--no-study") f.study = false;
+    else if (a == "--field-kernel") f.kernel = true;
     else if (a == "--study-only") f.table = false;
+  }
+  if (f.kernel) {
+    run_field_kernel(f);
+    return 0;
   }
   if (f.table) run_table5(f, args);
   if (f.study) run_study(f);
