@@ -28,6 +28,7 @@ nlohmann::json UvRepairResult::diagnostics() const {
           {"repaired_vertices", repaired_vertices},
           {"repaired_triangles", repaired_triangles},
           {"failed_detail", failed_detail},
+          {"slowest_patches", slowest_patches},
           {"seconds", seconds}};
 }
 
@@ -556,15 +557,22 @@ UvRepairResult repair_uvs(const Soup& soup, const quality::Weld& weld,
   r.patches = patches.size();
 
   std::vector<uint8_t> moved_vertex(verts.count(), 0);
+  struct PatchTime { double seconds; size_t patch, free_vertices, triangles; int rings; bool done; };
+  std::vector<PatchTime> patch_times;
   for (size_t p = 0; p < patches.size(); ++p) {
     if ((p & 255) == 0) progress.update("uv repair", double(p) / double(patches.size()));
+    const auto t_patch = std::chrono::steady_clock::now();
     std::vector<uint32_t> free_vertices = patches[p];
     bool done = false;
     enum { too_large, no_start, no_gain, sliver } why = no_start;
+    int rings_tried = 0;
+    size_t last_triangles = 0;
     for (int ring = 0; ring <= options.max_growth; ++ring) {
+      rings_tried = ring + 1;
       const bool grown_after_repair = done;
       if (free_vertices.size() > options.max_patch_vertices) { why = too_large; break; }
       Patch patch(free_vertices, verts, rest, uvs, foreign);
+      last_triangles = patch.triangles().size();
       const double before = patch.original_energy();
       // Only small islands: a large one is a whole chart (a plate traced
       // mirrored), and laying it down anew would move it over other charts.
@@ -601,7 +609,10 @@ UvRepairResult repair_uvs(const Soup& soup, const quality::Weld& weld,
           // converged over a whole region); one more ring gives it room,
           // starting from this solution, kept only if it lowers the energy.
           bool still_bad = false;
-          if (options.grow_while_bad)
+          const bool may_grow = options.grow_while_bad &&
+                                (options.grow_while_bad_max_vertices == 0 ||
+                                 patch.free_vertices().size() <= options.grow_while_bad_max_vertices);
+          if (may_grow)
             for (uint32_t t : patch.triangles()) still_bad |= is_bad(rest[t], uvs[t], median, options);
           if (!still_bad) break;
         }
@@ -617,6 +628,8 @@ UvRepairResult repair_uvs(const Soup& soup, const quality::Weld& weld,
       free_vertices.erase(std::unique(free_vertices.begin(), free_vertices.end()), free_vertices.end());
     }
     (done ? r.repaired_patches : r.failed_patches) += 1;
+    patch_times.push_back({std::chrono::duration<double>(std::chrono::steady_clock::now() - t_patch).count(),
+                           p, free_vertices.size(), last_triangles, rings_tried, done});
     if (!done) {
       // The triangles of the failed patch's seed, for a retry (only_triangles).
       for (uint32_t v : patches[p])
@@ -648,6 +661,19 @@ UvRepairResult repair_uvs(const Soup& soup, const quality::Weld& weld,
     }
   }
 
+  const size_t shown = std::min<size_t>(3, patch_times.size());
+  std::partial_sort(patch_times.begin(), patch_times.begin() + shown, patch_times.end(),
+                    [](const PatchTime& a, const PatchTime& b) { return a.seconds > b.seconds; });
+  for (size_t i = 0; i < shown; ++i) {
+    const PatchTime& pt = patch_times[i];
+    r.slowest_patches.push_back({{"seconds", pt.seconds},
+                                 {"first_triangle", verts.corners[verts.start[patches[pt.patch][0]]] / 3},
+                                 {"seed_vertices", patches[pt.patch].size()},
+                                 {"free_vertices", pt.free_vertices},
+                                 {"triangles", pt.triangles},
+                                 {"rings", pt.rings},
+                                 {"repaired", pt.done}});
+  }
   r.repaired_vertices = size_t(std::count(moved_vertex.begin(), moved_vertex.end(), 1));
   for (size_t t = 0; t < n; ++t)
     r.repaired_triangles += moved_vertex[verts.of_corner[3 * t]] ||

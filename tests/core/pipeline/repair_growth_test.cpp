@@ -27,3 +27,26 @@ TEST(RepairGrowth, FoxLegsAreLessStretched) {
   EXPECT_LE(b["flipped_fraction"].get<double>(), a["flipped_fraction"].get<double>());
   EXPECT_GE(b["continuity"].get<double>(), a["continuity"].get<double>() - 0.002);
 }
+
+// The growth's size bound (UvRepairOptions::grow_while_bad_max_vertices):
+// a bound below every Fox patch keeps the first repair of each, so the legs
+// stay as stretched as without the growth; a bound above them changes
+// nothing.
+TEST(RepairGrowth, SizeBoundStopsTheGrowth) {
+  io::LoadOptions lo;
+  lo.allow_external_uris = true;
+  const Soup fox = io::load_file(std::string(SOUPUV_SHARED_DATA) + "/gltf/Fox/Fox.gltf", lo).soup;
+  MapOptions o = fast_options();
+  const MapResult grown = run_map(fox, o);
+  MapOptions big = o;
+  big.repair.grow_while_bad_max_vertices = 100000;
+  EXPECT_EQ(run_map(fox, big).diagnostics["uv"]["stretch_l2"], grown.diagnostics["uv"]["stretch_l2"]);
+  MapOptions tiny = o;
+  tiny.repair.grow_while_bad_max_vertices = 1;
+  MapOptions none = o;
+  none.repair.grow_while_bad = false;
+  const double l2_tiny = run_map(fox, tiny).diagnostics["uv"]["stretch_l2"].get<double>();
+  const double l2_none = run_map(fox, none).diagnostics["uv"]["stretch_l2"].get<double>();
+  EXPECT_GT(l2_tiny, grown.diagnostics["uv"]["stretch_l2"].get<double>() + 0.01);
+  EXPECT_NEAR(l2_tiny, l2_none, 0.01);
+}

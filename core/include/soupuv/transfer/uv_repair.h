@@ -74,6 +74,11 @@ struct UvRepairOptions {
   // 1.123 -> 0.9541 / 0.127 % / 1.103; 100k torus unchanged (1.152, its
   // one flipped sliver).
   bool grow_while_bad = true;
+  // ... but only while the repaired patch has at most this many free UV
+  // vertices (0: no bound). A patch of thousands of vertices is a whole
+  // region landed badly; each ring re-minimises all of it, and one such
+  // patch took 3 of a 100k re-run's 7.6 s (4 rings, 2,578 vertices).
+  size_t grow_while_bad_max_vertices = 0;
   // When the copies' mean, Tutte and unfolding all fold, untangle
   // (Garanzha et al. 2021) from the copies' mean for up to untangle_rounds
   // rounds of its eps schedule.
@@ -117,6 +122,10 @@ struct UvRepairResult {
   // The first failed patches at their last try: a triangle of the seed,
   // sizes, fixed corners, 3D-degenerate triangles, reason.
   nlohmann::json failed_detail = nlohmann::json::array();
+  // The slowest patches (at most 3, slowest first): seconds, seed and final
+  // free vertices, triangles, rings tried, repaired or not — where the
+  // repair's time goes when one patch dominates it.
+  nlohmann::json slowest_patches = nlohmann::json::array();
   // Every triangle around a failed patch's seed vertices (sorted, unique).
   std::vector<uint32_t> failed_triangles;
   double seconds = 0;
