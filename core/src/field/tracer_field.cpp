@@ -260,11 +260,10 @@ void TracerField::prepare(const std::vector<int>& leaves) {
   // Parents before children: by level, then one parallel pass per level.
   std::sort(todo.begin(), todo.end(),
             [&](int a, int b) { return fmm_.tcells_[a].level < fmm_.tcells_[b].level; });
-  size_t next = L_.size() / ncoef_;
-  for (int c : todo) slot_[c] = static_cast<int>(next++);
-  L_.resize(next * ncoef_, 0.0);
-  const int gsize = field_expansion_->size();
-  G_.resize(next * gsize, 0.0);
+  for (int c : todo) slot_[c] = static_cast<int>(slots_++);
+  slot_doubles_ = ncoef_ + field_expansion_->size();
+  // Uninitialised (new double[], not a vector): each slot is written below.
+  while (pages_.size() * kPageSlots < slots_) pages_.emplace_back(new double[kPageSlots * slot_doubles_]);
   size_t ops = 0;
   for (size_t s = 0; s < todo.size();) {
     size_t e = s;
@@ -275,10 +274,9 @@ void TracerField::prepare(const std::vector<int>& leaves) {
     for (long i = static_cast<long>(s); i < static_cast<long>(e); ++i) {
       const int c = todo[i];
       const auto& cell = fmm_.tcells_[c];
-      double* L = &L_[static_cast<size_t>(slot_[c]) * ncoef_];
-      if (cell.parent >= 0)
-        fmm_.basis_.l2l(&L_[static_cast<size_t>(slot_[cell.parent]) * ncoef_],
-                        cell.center - fmm_.tcells_[cell.parent].center, L);
+      double* L = local(slot_[c]);
+      std::fill_n(L, ncoef_, 0.0);
+      if (cell.parent >= 0) fmm_.basis_.l2l(local(slot_[cell.parent]), cell.center - fmm_.tcells_[cell.parent].center, L);
       const auto& sources = fmm_.m2l_[c];
       std::vector<const double*> moments(sources.size());
       std::vector<Vec3> offsets(sources.size());
@@ -288,7 +286,7 @@ void TracerField::prepare(const std::vector<int>& leaves) {
       }
       m2l_->apply_float(moments.data(), offsets.data(), static_cast<int>(sources.size()), L);
       ops += sources.size();
-      field_expansion_->from_local(L, &G_[static_cast<size_t>(slot_[c]) * gsize]);
+      field_expansion_->from_local(L, polynomials(slot_[c]));
       if (cell.child_first < 0) build_near_plan(c);
     }
     s = e;
@@ -364,7 +362,7 @@ void TracerField::field(int leaf, const Vec3* x, int count, Vec3* E, double* nea
   }
   const auto& cell = fmm_.tcells_[leaf];
   const NearPlan& plan = plans_[leaf];
-  const double* G = &G_[static_cast<size_t>(slot_[leaf]) * field_expansion_->size()];
+  const double* G = polynomials(slot_[leaf]);
   for (int i = 0; i < count; ++i) {
     field_expansion_->evaluate(G, x[i] - cell.center, &E[i]);
     if (nearest) nearest[i] = inf;
@@ -480,7 +478,7 @@ void TracerField::near_candidates(const int* ks, int n, Vec3 x, double* e, doubl
 }
 
 size_t TracerField::memory_bytes() const {
-  return (pq_.size() + tri_charge_.size() + M_.size() + L_.size() + G_.size()) * sizeof(double) +
+  return (pq_.size() + tri_charge_.size() + M_.size() + pages_.size() * kPageSlots * slot_doubles_) * sizeof(double) +
          near_tris_.size() * (sizeof(NearTriangle) + sizeof(NearTest)) +
          blocks_.size() * sizeof(float) + (span_of_cell_.size() + slot_.size() + slot_tri_.size()) * sizeof(int) +
          spans_.size() * sizeof(Span) + block_list_.size() * sizeof(Block) + plans_.size() * sizeof(NearPlan);

@@ -136,12 +136,20 @@ class TracerField {
   int threads_;
   int ncoef_;
   std::vector<double> M_;                  // multipole moments, ncoef_ per source cell
-  std::vector<int> slot_;                  // per target cell: its local expansion in L_, or -1
-  std::vector<double> L_;                  // ncoef_ per computed target cell
-  // Each computed local expansion also as its field polynomials (tracer_l2p.h).
+  std::vector<int> slot_;                  // per target cell: its expansion slot, or -1
+  // Per slot: the local expansion (ncoef_ doubles), then the same as field
+  // polynomials (tracer_l2p.h), in pages of kPageSlots slots. Growing the
+  // store never moves or zeroes computed slots: a vector's resize copied and
+  // zeroed the whole store serially at every growth, page-faulting fresh
+  // memory each time; a page here is first touched by the threads that
+  // compute its slots.
+  static constexpr size_t kPageSlots = 1024;
+  std::vector<std::unique_ptr<double[]>> pages_;
+  size_t slots_ = 0, slot_doubles_ = 0;
+  double* local(int slot) const { return &pages_[slot / kPageSlots][(slot % kPageSlots) * slot_doubles_]; }
+  double* polynomials(int slot) const { return local(slot) + ncoef_; }
   std::unique_ptr<tracer::FieldExpansion> field_expansion_;
   std::unique_ptr<tracer::BatchM2L> m2l_;  // all M2Ls of a target cell in one call
-  std::vector<double> G_;
   size_t expansions_ = 0, m2l_ops_ = 0;
 };
 
