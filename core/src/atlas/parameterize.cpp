@@ -278,13 +278,16 @@ ChartParameterization parameterize_chart(const ChartMesh& c, int arap_iterations
   std::vector<Vec2> conformal = lscm(c);
   if (conformal.empty()) { r.why = "solver"; return r; }
   std::vector<Vec2> isometric = arap(c, conformal, arap_iterations);
-  scale_to_3d_area(c, isometric);
   // The descent starts from ARAP's result and never folds a face, so it is
   // tried first; ARAP's own result, then LSCM, are the fallbacks when the
-  // descended boundary crosses itself (or ARAP folded a face over).
+  // descended boundary crosses itself (or ARAP folded a face over). Without
+  // sweeps the ARAP and LSCM results are exactly what they were before.
   std::vector<Vec2> descended;
-  if (stretch_sweeps > 0 && count_flipped(c, isometric) == 0)
-    descended = descend_l2_stretch(c, isometric, stretch_sweeps);
+  if (stretch_sweeps > 0 && count_flipped(c, isometric) == 0) {
+    descended = isometric;
+    scale_to_3d_area(c, descended);
+    descended = descend_l2_stretch(c, std::move(descended), stretch_sweeps);
+  }
   r.why = "flip";
   for (std::vector<Vec2>* uv : {&descended, &isometric, &conformal}) {
     if (uv->empty()) continue;
