@@ -107,7 +107,7 @@ Usage:
                              the best welded continuity within flipped <= 0.5 %
                              and L2 <= 1.3 is kept (keys: angle, alt_angle,
                              no_alt_angles, stretch, merge_cone, merge_area,
-                             merge_fill, merge_stretch, relax, relax_band, relax_stretch,
+                             merge_fill, merge_stretch, merge_sweeps, relax, relax_band, relax_stretch,
                              offset); repeatable; atlas.candidates in diagnostics
       --no-candidates        only this run's own proxy and atlas
       --candidate-max-triangles N  search on soups of at most N triangles (20000)

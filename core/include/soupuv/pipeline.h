@@ -75,7 +75,7 @@ std::vector<MapCandidate> map_candidates();
 // "NAME:K=V,K=V" -> a candidate on top of map_atlas_defaults(), for the CLI's
 // --candidate and the benches' A/B runs. Keys: angle (segmentation budget,
 // deg), alt_angle (one more budget), no_alt_angles, stretch, merge_cone,
-// merge_area, merge_fill, merge_stretch, relax (0/1), relax_band, relax_stretch, offset
+// merge_area, merge_fill, merge_stretch, merge_sweeps, relax (0/1), relax_band, relax_stretch, offset
 // (proxy_offset_fraction). Throws Error{invalid_input} on anything else.
 MapCandidate parse_map_candidate(const std::string& spec);
 

@@ -36,6 +36,7 @@ MapCandidate parse_map_candidate(const std::string& spec) {
     else if (key == "merge_area") a.merge_max_area_fraction = value;
     else if (key == "merge_fill") a.merge_min_fill = value;
     else if (key == "merge_stretch") a.merge_max_stretch = value;
+    else if (key == "merge_sweeps") a.merge_stretch_sweeps = int(value);
     else if (key == "relax") a.relax_seams = value != 0;
     else if (key == "relax_band") a.relax_band = value;
     else if (key == "relax_stretch") a.relax_max_stretch_increase = value;

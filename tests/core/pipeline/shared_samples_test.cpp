@@ -61,12 +61,13 @@ void check(const Sample& s) {
 // 0 % / 1.11, teapot 0.955 / 0.06 % / 1.10. Floors a little under them
 // (one suzanne pair is 0.0007 of continuity); teapot's is the 0.95.
 // Session 7, the candidate search (map_candidates(), chosen by welded
-// continuity within 0.5 % / 1.3), measured here (loaded machine):
-// suzanne 0.9686 / 0 % / 1.116 (nc110), spot 0.9825 / 0 % / 1.149 (nc110;
-// 0.984 / 1.23 with nc150 on the list), teapot 0.9581 / 0.06 % / 1.10
-// (c130). Spot's L2 floor is the 1.3, which the search enforces.
-TEST(SharedSamples, Suzanne) { check({"suzanne", 0.005, 1.3, 0.96}); }
+// continuity within 0.5 % / 1.3), `soupuv-bench pipeline --only samples`
+// with atlas's 7874d77 list (default, c130, nc110, nc120d, nc150d), loaded
+// machine: suzanne 0.9686 / 0 % / 1.116 (nc110), spot 0.9834 / 0 % / 1.199
+// (nc120d), teapot 0.9644 / 0.06 % / 1.176 (nc150d). The L2 floors are the
+// issue's 1.3, which the search itself enforces.
+TEST(SharedSamples, Suzanne) { check({"suzanne", 0.005, 1.3, 0.965}); }
 
-TEST(SharedSamples, Spot) { check({"spot", 0.005, 1.3, 0.975}); }
+TEST(SharedSamples, Spot) { check({"spot", 0.005, 1.3, 0.978}); }
 
-TEST(SharedSamples, Teapot) { check({"teapot", 0.005, 1.2, 0.955}); }
+TEST(SharedSamples, Teapot) { check({"teapot", 0.005, 1.3, 0.96}); }
