@@ -220,6 +220,11 @@ function flatten(obj, prefix = '', out = []) {
     const key = prefix ? `${prefix}.${k}` : k;
     if (v && typeof v === 'object' && !Array.isArray(v)) flatten(v, key, out);
     else if (Array.isArray(v) && v.length > 8) out.push([key, `[${v.length} values]`]);
+    // A short list of records (e.g. atlas.candidates) reads better one field per row.
+    else if (Array.isArray(v) && v.some((e) => e && typeof e === 'object')) {
+      v.forEach((e, i) => (e && typeof e === 'object' ? flatten(e, `${key}[${i}]`, out)
+        : out.push([`${key}[${i}]`, JSON.stringify(e)])));
+    }
     else out.push([key, typeof v === 'number' && !Number.isInteger(v) ? v.toPrecision(4) : JSON.stringify(v)]);
   }
   return out;
