@@ -233,7 +233,14 @@ struct MapOptions {
   // exactly as without a search. The search runs only on soups of at most
   // candidates_max_triangles and at most relax_max_soup_per_proxy_face soup
   // triangles per face of the first proxy (0: no coarseness gate), so the
-  // fine soups (bunnies, 100k torus) keep one run.
+  // fine soups (bunnies, 100k torus) keep one run. Measured cost of the
+  // search with atlas's five candidates (`soupuv-bench pipeline --only
+  // samples`, loaded machine, wall): Fox, Duck, Box +8.3 s, suzanne +8.5,
+  // CesiumMan +10.9, spot +13.2, fandisk +16.1, teapot +42 (its repair is
+  // slow) on runs of 10-55 s; in exchange continuity rose on every sample
+  // it ran on (suzanne 0.9505 -> 0.9686, Fox 0.868 -> 0.924, ...). The
+  // 20,000 bound keeps the search off soups whose own run is already long;
+  // a small soup's re-run repeats the search (its proxy changed).
   std::vector<MapCandidate> candidates = map_candidates();
   size_t candidates_max_triangles = 20000;
   double candidate_max_flipped = 0.005;
