@@ -57,6 +57,20 @@ bool same_uvs(const std::vector<Vec2>& a, const std::vector<Vec2>& b) {
 
 }  // namespace
 
+// Fox with a shared cache (the candidates reuse one field) and the three-entry
+// list; each test starts from the same options.
+class CandidateSearch : public ::testing::Test {
+ protected:
+  CandidateSearch() {
+    o.threads = 2;
+    o.cache = &store;
+    o.candidates = fox_list();
+  }
+  const Soup soup = fox();
+  cache::Store store;
+  MapOptions o;
+};
+
 TEST(CandidateChoice, BestAdmissibleWinsTiesGoEarlierNoneMeansFirst) {
   MapOptions o;
   // The best continuity is over the L2 bound, the next best flips too much.
@@ -95,13 +109,7 @@ TEST(CandidateChoice, ParseRejectsUnknownKeysAndBadNumbers) {
 // Slow twin: each candidate alone through run_map (its options as the run's
 // own), the best admissible weld continuity picked by hand, must be what the
 // search keeps — the same UVs, bit for bit (one cache: the same field lines).
-TEST(CandidateSearch, KeepsWhatRunningEachAloneWouldPick) {
-  const Soup soup = fox();
-  cache::Store store;
-  MapOptions o;
-  o.threads = 2;
-  o.cache = &store;
-  o.candidates = fox_list();
+TEST_F(CandidateSearch, KeepsWhatRunningEachAloneWouldPick) {
   const MapResult searched = run_map(soup, o);
   const auto& list = searched.diagnostics["atlas"]["candidates"];
   ASSERT_EQ(list.size(), 3u);
@@ -133,12 +141,7 @@ TEST(CandidateSearch, KeepsWhatRunningEachAloneWouldPick) {
 }
 
 // A list of one, or a soup the gate keeps out, is the old single run.
-TEST(CandidateSearch, ListOfOneAndGatedOutGiveTheSingleRun) {
-  const Soup soup = fox();
-  cache::Store store;
-  MapOptions o;
-  o.threads = 2;
-  o.cache = &store;
+TEST_F(CandidateSearch, ListOfOneAndGatedOutGiveTheSingleRun) {
   o.candidates = {MapCandidate{"default", map_atlas_defaults(), 0}};
   const MapResult single = run_map(soup, o);
   EXPECT_FALSE(single.diagnostics["atlas"].contains("candidates"));
@@ -154,13 +157,7 @@ TEST(CandidateSearch, ListOfOneAndGatedOutGiveTheSingleRun) {
 
 // Cancellation reaches into the candidate loop, and the stage's progress
 // only goes up.
-TEST(CandidateSearch, ProgressIsMonotoneAndCancellable) {
-  const Soup soup = fox();
-  cache::Store store;
-  MapOptions o;
-  o.threads = 2;
-  o.cache = &store;
-  o.candidates = fox_list();
+TEST_F(CandidateSearch, ProgressIsMonotoneAndCancellable) {
   std::vector<double> seen;
   Progress watch([&](std::string_view stage, double f) {
     if (stage == "candidates") seen.push_back(f);
