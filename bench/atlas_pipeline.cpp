@@ -75,42 +75,28 @@ struct Variant {
   double proxy_edge = 0;  // 0: the proxy's own choice (the offset)
 };
 
-// "NAME:K=V,K=V" -> a variant of the pipeline's atlas.
+// "NAME:K=V,K=V" -> a variant of the pipeline's atlas: the keys of
+// parse_map_candidate (pipeline.h), plus proxy_edge, which only the bench has.
 Variant parse_variant(const std::string& text) {
+  std::string spec = text.substr(0, text.find(':'));
   Variant v;
-  const size_t colon = text.find(':');
-  v.name = text.substr(0, colon);
-  if (colon == std::string::npos) return v;
-  std::stringstream list(text.substr(colon + 1));
-  std::string item;
-  while (std::getline(list, item, ',')) {
-    const size_t eq = item.find('=');
-    if (eq == std::string::npos) throw Error(ErrorCode::invalid_input, "variant item without '=': " + item);
-    const std::string key = item.substr(0, eq);
-    const double value = std::stod(item.substr(eq + 1));
-    atlas::AtlasOptions& a = v.atlas;
-    if (key == "angle") a.max_normal_deviation_deg = value;
-    else if (key == "alt_angle") a.alternative_normal_deviations_deg.push_back(value);
-    else if (key == "no_alt_angles") a.alternative_normal_deviations_deg.clear();
-    else if (key == "stretch") a.max_stretch = value;
-    else if (key == "merge") a.merge_charts = value != 0;
-    else if (key == "merge_crease") a.merge_crease_deg = value;
-    else if (key == "merge_area") a.merge_max_area_fraction = value;
-    else if (key == "merge_fill") a.merge_min_fill = value;
-    else if (key == "merge_cone") a.merge_max_normal_deviation_deg = value;
-    else if (key == "merge_stretch") a.merge_max_stretch = value;
-    else if (key == "merge_sweeps") a.merge_stretch_sweeps = int(value);
-    else if (key == "pack_splits") a.packing_split_rounds = int(value);
-    else if (key == "split_below") a.packing_split_below = value;
-    else if (key == "relax") a.relax_seams = value != 0;
-    else if (key == "relax_band") a.relax_band = value;
-    else if (key == "relax_stretch") a.relax_max_stretch_increase = value;
-    else if (key == "relax_narrow") a.relax_narrowings = int(value);
-    else if (key == "soup_weights") a.soup_seam_weights = value != 0;
-    else if (key == "offset") v.offset = value;
-    else if (key == "proxy_edge") v.proxy_edge = value;
-    else throw Error(ErrorCode::invalid_input, "unknown variant key: " + key);
+  if (text.find(':') != std::string::npos) {
+    std::stringstream list(text.substr(text.find(':') + 1));
+    std::string item;
+    char sep = ':';
+    while (std::getline(list, item, ',')) {
+      if (item.rfind("proxy_edge=", 0) == 0) {
+        v.proxy_edge = std::stod(item.substr(11));
+        continue;
+      }
+      spec += sep + item;
+      sep = ',';
+    }
   }
+  const MapCandidate c = parse_map_candidate(spec);
+  v.name = c.name;
+  v.atlas = c.atlas;
+  v.offset = c.proxy_offset_fraction;
   return v;
 }
 

@@ -32,14 +32,20 @@ MapCandidate parse_map_candidate(const std::string& spec) {
     else if (key == "alt_angle") a.alternative_normal_deviations_deg.push_back(value);
     else if (key == "no_alt_angles") a.alternative_normal_deviations_deg.clear();
     else if (key == "stretch") a.max_stretch = value;
+    else if (key == "merge") a.merge_charts = value != 0;
+    else if (key == "merge_crease") a.merge_crease_deg = value;
     else if (key == "merge_cone") a.merge_max_normal_deviation_deg = value;
     else if (key == "merge_area") a.merge_max_area_fraction = value;
     else if (key == "merge_fill") a.merge_min_fill = value;
     else if (key == "merge_stretch") a.merge_max_stretch = value;
     else if (key == "merge_sweeps") a.merge_stretch_sweeps = int(value);
+    else if (key == "pack_splits") a.packing_split_rounds = int(value);
+    else if (key == "split_below") a.packing_split_below = value;
     else if (key == "relax") a.relax_seams = value != 0;
     else if (key == "relax_band") a.relax_band = value;
     else if (key == "relax_stretch") a.relax_max_stretch_increase = value;
+    else if (key == "relax_narrow") a.relax_narrowings = int(value);
+    else if (key == "soup_weights") a.soup_seam_weights = value != 0;
     else if (key == "offset") c.proxy_offset_fraction = value;
     else throw Error(ErrorCode::invalid_input, "unknown candidate key: " + key);
   }
