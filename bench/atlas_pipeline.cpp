@@ -23,7 +23,10 @@
 //                        offset (proxy offset, fraction of the diagonal;
 //                        default: auto), proxy_edge (proxy remeshing edge
 //                        length, fraction of the diagonal; default: the
-//                        offset).
+//                        offset), gaps (0/1: the proxy keeps gaps
+//                        between far-apart parts, gap_offsets.h) with
+//                        gap_res, gap_min, gap_margin (its grid factor,
+//                        smallest offset and slit margin in cells).
 //   --quick              suzanne and Fox, the pipeline's atlas only.
 //   --dump-uvs DIR       also write DIR/MESH-VARIANT.uv.txt: per soup triangle
 //                        its corners' x y z u v (to draw the seams).
@@ -73,6 +76,8 @@ struct Variant {
   atlas::AtlasOptions atlas = map_atlas_defaults();
   double offset = 0;      // 0: the pipeline's automatic offset
   double proxy_edge = 0;  // 0: the proxy's own choice (the offset)
+  bool gaps = false;      // proxy keep_gaps (gap_offsets.h)
+  double gap_res = 0, gap_min = 0, gap_margin = 0;  // 0: the proxy's defaults
 };
 
 // "NAME:K=V,K=V" -> a variant of the pipeline's atlas: the keys of
@@ -87,6 +92,22 @@ Variant parse_variant(const std::string& text) {
     while (std::getline(list, item, ',')) {
       if (item.rfind("proxy_edge=", 0) == 0) {
         v.proxy_edge = std::stod(item.substr(11));
+        continue;
+      }
+      if (item.rfind("gaps=", 0) == 0) {
+        v.gaps = std::stod(item.substr(5)) != 0;
+        continue;
+      }
+      if (item.rfind("gap_res=", 0) == 0) {
+        v.gap_res = std::stod(item.substr(8));
+        continue;
+      }
+      if (item.rfind("gap_min=", 0) == 0) {
+        v.gap_min = std::stod(item.substr(8));
+        continue;
+      }
+      if (item.rfind("gap_margin=", 0) == 0) {
+        v.gap_margin = std::stod(item.substr(11));
         continue;
       }
       spec += sep + item;
@@ -230,6 +251,10 @@ int run_atlas_pipeline(const bench::Args& args) {
         o.proxy.offset_mode = proxy::OffsetMode::relative;
         o.proxy.offset = variants[v].offset;
       }
+      o.proxy.keep_gaps = variants[v].gaps;
+      if (variants[v].gap_res > 0) o.proxy.gap_resolution_factor = variants[v].gap_res;
+      if (variants[v].gap_min > 0) o.proxy.gap_min_offset_cells = variants[v].gap_min;
+      if (variants[v].gap_margin > 0) o.proxy.gap_margin_cells = variants[v].gap_margin;
       if (variants[v].proxy_edge > 0) {
         o.proxy.target_edge_length = variants[v].proxy_edge * bounding_box(soup).diagonal();
       }
@@ -255,6 +280,10 @@ int run_atlas_pipeline(const bench::Args& args) {
                             {"pairs", uv["causes"]["pairs"]},
                             {"from_chart_seams", uv["causes"]["chart_correction"]},
                             {"proxy_triangles", d["proxy"]["triangles"]},
+                            {"proxy_gap_narrowed", d["proxy"].value("gap_narrowed_triangles", 0)},
+                            {"proxy_min_distance_ratio", d["proxy"]["min_distance_ratio"]},
+                            {"proxy_resolution", d["proxy"]["resolution"]},
+                            {"proxy_genus", d["proxy"]["genus"]},
                             {"charts", a["charts"]},
                             {"utilization", a["utilization"]},
                             {"seam_length_relative", a["seam_length_relative"]},

@@ -101,11 +101,12 @@ void pad(CandidateList& list, size_t count) {
 // The caller's guess (`best`, e.g. the closest triangle of a neighbouring
 // query) tightens the search radius before any traversal; a guess that is
 // not closer than `best2` is dropped. True when it is already below lo2.
+template <class Shifted>
 bool warm_start(const std::vector<std::array<Vec3, 3>>& tris, Vec3 p, double lo2, double& best2,
-                uint32_t& best) {
+                uint32_t& best, Shifted&& shifted2) {
   if (best >= tris.size()) return false;
   const auto& t = tris[best];
-  double d2 = point_triangle_distance2(p, t[0], t[1], t[2]);
+  double d2 = shifted2(best, point_triangle_distance2(p, t[0], t[1], t[2]));
   if (d2 >= best2) {
     best = UINT32_MAX;
     return false;
@@ -254,7 +255,8 @@ double TriangleBvh::distance_among(Vec3 p, const CandidateList& list, double lo,
     if (nearest && best < tris_.size()) *nearest = best;
     return result;
   };
-  if (warm_start(tris_, p, lo2, best2, best)) return done(std::sqrt(best2));
+  if (warm_start(tris_, p, lo2, best2, best, [this](uint32_t i, double d2) { return shifted2(i, d2); }))
+    return done(std::sqrt(best2));
   const float px = float(p.x - list.center.x), py = float(p.y - list.center.y), pz = float(p.z - list.center.z);
   // Float rounding of a box or plane distance is below 2^-21 of the largest
   // local coordinate involved; 2^-18 of it as slack keeps every skip certain.
@@ -291,7 +293,7 @@ double TriangleBvh::distance_among(Vec3 p, const CandidateList& list, double lo,
       if (!(bound[k] < limit)) continue;
       uint32_t i = list.ids[s + k];
       const auto& t = tris_[i];
-      double d2 = point_triangle_distance2(p, t[0], t[1], t[2]);
+      double d2 = shifted2(i, point_triangle_distance2(p, t[0], t[1], t[2]));
       if (d2 < best2) {
         best2 = d2;
         best = i;
@@ -342,7 +344,8 @@ double TriangleBvh::distance(Vec3 p, double lo, double hi, uint32_t* nearest) co
     if (nearest && best < tris_.size()) *nearest = best;
     return result;
   };
-  if (warm_start(tris_, p, lo2, best2, best)) return done(std::sqrt(best2));
+  if (warm_start(tris_, p, lo2, best2, best, [this](uint32_t i, double d2) { return shifted2(i, d2); }))
+    return done(std::sqrt(best2));
   uint32_t stack[128];
   int top = 0;
   stack[top++] = 0;
@@ -352,7 +355,7 @@ double TriangleBvh::distance(Vec3 p, double lo, double hi, uint32_t* nearest) co
     if (node.count > 0) {
       for (uint32_t i = node.first; i < node.first + node.count; ++i) {
         const auto& t = tris_[i];
-        double d2 = point_triangle_distance2(p, t[0], t[1], t[2]);
+        double d2 = shifted2(i, point_triangle_distance2(p, t[0], t[1], t[2]));
         if (d2 < best2) {
           best2 = d2;
           best = i;
