@@ -304,6 +304,7 @@ int run_atlas_pipeline(const bench::Args& args) {
       row["causes"] = uv["causes"];
       if (d.contains("uv_repair") && d["uv_repair"].value("enabled", false))
         row["before_repair"] = d["uv_repair"]["before"];
+      if (d.contains("island_relax")) row["island_relax"] = d["island_relax"];
       bench::emit(row);
       if (charts) {
         bench::emit({{"suite", "atlas-pipeline"}, {"kind", "stretch_tail"}, {"mesh", s.name},
