@@ -20,6 +20,9 @@
 //   --seed-weld-corners, --no-reweld, --strict-retry F, --no-grow-while-bad:
 //                     session 6's levers off (session 5's pipeline: all four,
 //                     F = 1.2).
+//   --no-island-relax, --island-max-triangles N: the island relaxation off,
+//                     or its gate moved (0: any size). Rows carry island_relax
+//                     (relaxed islands, L2 and overlap before/after, seconds).
 //   --candidate NAME:K=V,..  one more (proxy, atlas) candidate for the search
 //                     (parse_map_candidate's keys; repeatable); --no-candidates:
 //                     the run's own alone (the A/B switch). Rows carry
@@ -173,6 +176,19 @@ nlohmann::json row(const Input& in, const std::string& method, const Timed& run)
     r["repair_seconds"] = d["uv_repair"]["seconds"];
     r["repair_slowest_patches"] = d["uv_repair"].value("slowest_patches", nlohmann::json::array());
   }
+  if (d.contains("island_relax") && d["island_relax"].value("ran", false)) {
+    const auto& ir = d["island_relax"];
+    nlohmann::json islands = nlohmann::json::array();
+    for (const auto& f : ir["per_island"])
+      if (islands.size() < 4) islands.push_back({{"triangles", f["triangles"]}, {"outcome", f["outcome"]},
+                                                 {"l2", {f["stretch_l2_before"], f["stretch_l2_after"]}},
+                                                 {"iterations", {f["iterations"], f["l2_iterations"]}}});
+    r["island_relax"] = {{"relaxed", ir["relaxed"]}, {"islands", ir["islands"]},
+                         {"rejected_overlap", ir["rejected_overlap"]},
+                         {"stretch_l2", {ir["stretch_l2_before"], ir["stretch_l2_after"]}},
+                         {"overlap_texels", {ir["overlap_texels_before"], ir["overlap_texels_after"]}},
+                         {"seconds", ir["seconds"]}, {"largest", islands}};
+  }
   return r;
 }
 
@@ -183,6 +199,9 @@ void apply_switches(const bench::Args& args, MapOptions& o) {
   for (size_t i = 0; i < args.rest.size(); ++i) {
     if (args.rest[i] == "--seed-weld-corners") o.seed_weld_by_edges = false;
     if (args.rest[i] == "--no-reweld") o.uv_reweld = false;
+    if (args.rest[i] == "--no-island-relax") o.island_relax = false;
+    if (args.rest[i] == "--island-max-triangles" && i + 1 < args.rest.size())
+      o.island_relax_max_triangles = size_t(std::stoul(args.rest[i + 1]));
     if (args.rest[i] == "--no-grow-while-bad") o.repair.grow_while_bad = false;
     if (args.rest[i] == "--seed-edge-fraction" && i + 1 < args.rest.size())
       o.seed_weld_edge_fraction = std::stod(args.rest[i + 1]);

@@ -102,6 +102,10 @@ Usage:
                              are joined again where nothing folds)
       --reweld-density E     ... a joined triangle's symmetric Dirichlet energy
                              per area may reach E (8; 4 = isometric)
+      --no-island-relax      skip the island relaxation (a post-process after the
+                             repair: each UV island re-flattened as a whole)
+      --island-max-triangles N  ... it runs on soups of at most N triangles
+                             (20000; 0 = any size)
       --candidate NAME:K=V,..  one more (proxy, atlas) candidate landed against the
                              same field lines; on small coarse soups the one with
                              the best welded continuity within flipped <= 0.5 %

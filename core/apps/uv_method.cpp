@@ -187,6 +187,10 @@ bool parse_method_flag(const std::vector<std::string>& args, size_t& i, MethodFl
     o.repair_weld_lines = true;
   } else if (a == "--no-reweld") {
     o.uv_reweld = false;
+  } else if (a == "--no-island-relax") {
+    o.island_relax = false;
+  } else if (a == "--island-max-triangles") {
+    o.island_relax_max_triangles = size_t(number(a, value()));
   } else if (a == "--reweld-density") {
     o.reweld.max_energy_density = number(a, value());
     if (!(o.reweld.max_energy_density >= 4)) throw UsageError{"--reweld-density needs a value >= 4"};

@@ -40,6 +40,10 @@ nlohmann::json candidates_json(const std::vector<CandidateFigures>& figures, siz
                     {"proxy_rebuilt", f.proxy_rebuilt},
                     {"admissible", candidate_admissible(f, options)},
                     {"chosen", i == chosen}});
+    if (f.island_relaxed >= 0)
+      list.back()["island_relax"] = {{"relaxed", f.island_relaxed},
+                                     {"stretch_l2_before", f.island_l2_before},
+                                     {"largest", f.island_largest}};
   }
   return list;
 }

@@ -33,6 +33,11 @@ struct CandidateFigures {
   int charts = 0;
   double seconds = 0;  // proxy (when rebuilt) + atlas + transfer + repair + measure
   bool proxy_rebuilt = false;
+  // The island relaxation's relaxed islands and the map's L2 before it
+  // (-1: it did not run).
+  long island_relaxed = -1;
+  double island_l2_before = 0;
+  nlohmann::json island_largest;  // the three largest islands: triangles, outcome, L2 before / after
 };
 
 bool candidate_search_runs(size_t triangles, double soup_per_proxy_face, const MapOptions& options);

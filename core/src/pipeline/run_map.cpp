@@ -161,13 +161,22 @@ nlohmann::json search_candidates(const Soup& soup, const pipeline::FieldBranchRe
     f.flipped_fraction = m.flipped_fraction;
     f.stretch_l2 = m.stretch_l2;
     f.charts = b.atlas.atlas.chart_count;
+    if (u.island.value("ran", false)) {
+      f.island_relaxed = u.island.value("relaxed", 0L);
+      f.island_l2_before = u.island.value("stretch_l2_before", 0.0);
+      f.island_largest = nlohmann::json::array();
+      for (const auto& g : u.island["per_island"])
+        if (f.island_largest.size() < 3)
+          f.island_largest.push_back({g["triangles"], g["outcome"], g["stretch_l2_before"], g["stretch_l2_after"]});
+    }
     return f;
   };
   progress.update("candidates", 0);  // an edge report: always delivered
   std::vector<pipeline::CandidateFigures> figures;
   auto t0 = Clock::now();
   figures.push_back(figures_of(pb, uv, 0));
-  figures[0].seconds = pb.seconds_proxy + pb.seconds_atlas + uv.seconds_transfer + uv.seconds_repair + since(t0);
+  figures[0].seconds = pb.seconds_proxy + pb.seconds_atlas + uv.seconds_transfer + uv.seconds_repair +
+                       uv.seconds_island + since(t0);
   pipeline::ProxyBranch best_branch;
   pipeline::UvStage best_uv;
   for (size_t i = 1; i < k; ++i) {
@@ -324,7 +333,7 @@ MapResult run_map(const Soup& soup, const MapOptions& options, Progress& progres
   const auto adjacency = metric_pairs(soup, options);
   const double seconds_weld = since(t_weld);
   pipeline::UvStageWelds welds{&weld, options.chart_fix_neighbours ? &neighbours : nullptr, &adjacency,
-                               options.cache, hash, nullptr};
+                               options.cache, hash, nullptr, nullptr};
   pipeline::UvStage uv = pipeline::run_uv_stage(soup, field, pb, options, welds, total_threads, progress);
 
   // Candidates (pipeline/candidates.h): the same field landed on other
@@ -332,7 +341,8 @@ MapResult run_map(const Soup& soup, const MapOptions& options, Progress& progres
   // The stages' seconds are the first run's; the other candidates' time is
   // the "candidates" stage's, so the stages add up to the run.
   const double seconds_proxy = pb.seconds_proxy, seconds_atlas = pb.seconds_atlas;
-  const double seconds_transfer = uv.seconds_transfer, seconds_repair = uv.seconds_repair;
+  const double seconds_transfer = uv.seconds_transfer, seconds_repair = uv.seconds_repair,
+               seconds_island = uv.seconds_island;
   nlohmann::json candidates_list, candidate_search;
   double seconds_candidates = 0;
   const double coarseness = pipeline::soup_per_proxy_face(soup, pb.proxy);
@@ -390,6 +400,7 @@ MapResult run_map(const Soup& soup, const MapOptions& options, Progress& progres
       {"atlas", {{"seconds", seconds_atlas}}},
       {"transfer", {{"seconds", seconds_transfer}}},
       {"uv_repair", {{"seconds", seconds_repair}}},
+      {"island_relax", {{"seconds", seconds_island}}},
       {"metrics", {{"seconds", metric_seconds}}}};
   if (search) d["stages"]["candidates"] = {{"seconds", seconds_candidates}};
   // The rest of the run, so the stages add up: the soup's welds for §8, the
@@ -427,6 +438,7 @@ MapResult run_map(const Soup& soup, const MapOptions& options, Progress& progres
   d["uv"]["repaired_vertices"] = repair_json.value("repaired_vertices", 0);
   d["uv"]["repaired_triangles"] = repair_json.value("repaired_triangles", 0);
   d["uv_repair"] = repair_json;
+  d["island_relax"] = uv.island;
   size_t hits = size_t(field.charges_cached) + size_t(field.lines_cached);
   size_t misses = 2 - hits;
   d["cache"] = cache_json(options.cache, options.cache ? hits : 0, options.cache ? misses : 0);

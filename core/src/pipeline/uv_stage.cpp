@@ -12,6 +12,10 @@ namespace soupuv::pipeline {
 namespace {
 using Clock = std::chrono::steady_clock;
 double since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
+void repair_stage(const Soup& soup, const FieldBranchResult& field, const atlas::Atlas& atlas,
+                  const MapOptions& options, UvStageWelds& welds, UvStage& s, Progress& progress);
+void relax_stage(const Soup& soup, const atlas::Atlas& atlas, const MapOptions& options,
+                 UvStageWelds& welds, int threads, UvStage& s, Progress& progress);
 }  // namespace
 
 UvStage run_uv_stage(const Soup& soup, const FieldBranchResult& field, const ProxyBranch& branch,
@@ -19,7 +23,6 @@ UvStage run_uv_stage(const Soup& soup, const FieldBranchResult& field, const Pro
                      Progress& progress) {
   const proxy::ProxyResult& px = branch.proxy;
   const atlas::Atlas& atlas = branch.atlas.atlas;
-  const double diag = bounding_box(soup).diagonal();
   UvStage s;
   transfer::TransferOptions to = options.transfer;
   to.threads = threads;
@@ -42,11 +45,20 @@ UvStage run_uv_stage(const Soup& soup, const FieldBranchResult& field, const Pro
     s.cut_corrected = transfer::apply_cut_probes(soup, field.probes, probe_uvs, tr.corner_uvs);
   }
   s.seconds_transfer = since(t_transfer);
-
-  // The repair, with the figures of the unrepaired map beside it so every
-  // run shows what the post-process changed.
   s.repair = {{"enabled", options.uv_repair}};
-  if (!options.uv_repair) return s;
+  if (options.uv_repair) repair_stage(soup, field, atlas, options, welds, s, progress);
+  relax_stage(soup, atlas, options, welds, threads, s, progress);
+  return s;
+}
+
+namespace {
+
+// The repair, with the figures of the unrepaired map beside it so every
+// run shows what the post-process changed.
+void repair_stage(const Soup& soup, const FieldBranchResult& field, const atlas::Atlas& atlas,
+                  const MapOptions& options, UvStageWelds& welds, UvStage& s, Progress& progress) {
+  const double diag = bounding_box(soup).diagonal();
+  transfer::TransferResult& tr = s.tr;
   s.unrepaired = tr.corner_uvs;
   quality::UvMetricsOptions mo;
   mo.texture_size = options.metrics_texture_size;
@@ -115,7 +127,36 @@ UvStage run_uv_stage(const Soup& soup, const FieldBranchResult& field, const Pro
   s.repair["options"] = {{"stretch_threshold", options.repair.stretch_threshold},
                          {"expansion_threshold", options.repair.expansion_threshold},
                          {"max_growth", options.repair.max_growth}};
-  return s;
 }
+
+// The island relaxation (transfer/island_relax.h) on the soup's corner weld.
+void relax_stage(const Soup& soup, const atlas::Atlas& atlas, const MapOptions& options,
+                 UvStageWelds& welds, int threads, UvStage& s, Progress& progress) {
+  const bool runs = options.island_relax && (options.island_relax_max_triangles == 0 ||
+                                             soup.triangles.size() <= options.island_relax_max_triangles);
+  s.island = {{"enabled", options.island_relax}, {"ran", runs}};
+  if (!runs) return;
+  auto t0 = Clock::now();
+  if (!welds.corners) {
+    const double diag = bounding_box(soup).diagonal();
+    bool hit = false;
+    welds.corners = std::make_shared<quality::Weld>(cached_weld(
+        welds.cache, welds.soup_hash,
+        weld_recipe("corners", {options.weld_tolerance * diag, options.weld_edge_fraction}),
+        [&] { return quality::weld_corners(soup, options.weld_tolerance * diag, options.weld_edge_fraction); },
+        hit));
+  }
+  transfer::IslandRelaxOptions io = options.island;
+  io.texture_size = options.metrics_texture_size;
+  io.uv_per_length = atlas.uv_per_length;
+  io.threads = threads;
+  const transfer::IslandRelaxResult r =
+      transfer::relax_islands(soup, *welds.corners, s.tr.corner_uvs, io, progress);
+  s.island.update(r.diagnostics());
+  s.seconds_island = since(t0);
+  s.island["seconds"] = s.seconds_island;
+}
+
+}  // namespace
 
 }  // namespace soupuv::pipeline

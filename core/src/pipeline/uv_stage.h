@@ -1,6 +1,7 @@
 // The UV half of run_map, where the two branches meet: the field lines land
 // on the proxy (transfer, §8 chart fix, cut-triangle probes), then the local
-// UV repair, its strict retry and the re-weld (MapOptions says which run).
+// UV repair, its strict retry, the re-weld and the island relaxation
+// (MapOptions says which run).
 // run_map calls it once per (proxy, atlas) candidate against the one field.
 //
 //   run_uv_stage(soup, field, branch, options, welds, threads, progress)
@@ -10,7 +11,8 @@
 //     welds        the soup's edge weld and its neighbour pairs, and the
 //                  metric adjacency for the "before repair" figures
 //   -> per-triangle corner UVs, the transfer's counts, the unrepaired UVs
-//      (when the repair ran), the repair's diagnostics and the seconds.
+//      (when the repair ran), the repair's and the island relaxation's
+//      diagnostics and the seconds.
 #pragma once
 
 #include <array>
@@ -36,6 +38,9 @@ struct UvStageWelds {
   cache::Store* cache = nullptr;
   std::string soup_hash;
   std::shared_ptr<quality::Weld> strict;
+  // The island relaxation's weld (the soup's corners by distance, as the
+  // candidate choice welds), built on first use and kept for the next.
+  std::shared_ptr<quality::Weld> corners;
 };
 
 struct UvStage {
@@ -43,7 +48,8 @@ struct UvStage {
   size_t cut_corrected = 0;
   std::vector<std::array<Vec2, 3>> unrepaired;  // empty when the repair is off
   nlohmann::json repair;                        // MapResult's "uv_repair"
-  double seconds_transfer = 0, seconds_repair = 0;
+  nlohmann::json island;                        // MapResult's "island_relax"
+  double seconds_transfer = 0, seconds_repair = 0, seconds_island = 0;
 };
 
 UvStage run_uv_stage(const Soup& soup, const FieldBranchResult& field, const ProxyBranch& branch,
