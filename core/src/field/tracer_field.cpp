@@ -264,30 +264,43 @@ void TracerField::prepare(const std::vector<int>& leaves) {
   slot_doubles_ = ncoef_ + field_expansion_->size();
   // Uninitialised (new double[], not a vector): each slot is written below.
   while (pages_.size() * kPageSlots < slots_) pages_.emplace_back(new double[kPageSlots * slot_doubles_]);
+  // The M2Ls (most of the cost) do not depend on the parent: all missing
+  // cells at once, in one parallel pass. Per level, the small levels of a
+  // round ran on one thread while the other waited (a 2-thread profile at
+  // 12,800 had 5.2 % of the samples in M2L on the master, 3.5 % on the other).
   size_t ops = 0;
+  const long nt = static_cast<long>(todo.size());
+  // A round of a few cells is not worth a fork/join (see trace.cpp).
+#pragma omp parallel for num_threads(threads_) schedule(dynamic, 1) reduction(+ : ops) if (nt >= 32)
+  for (long i = 0; i < nt; ++i) {
+    const int c = todo[i];
+    const auto& cell = fmm_.tcells_[c];
+    double* L = local(slot_[c]);
+    std::fill_n(L, ncoef_, 0.0);
+    const auto& sources = fmm_.m2l_[c];
+    std::vector<const double*> moments(sources.size());
+    std::vector<Vec3> offsets(sources.size());
+    for (size_t k = 0; k < sources.size(); ++k) {
+      moments[k] = &M_[static_cast<size_t>(sources[k]) * ncoef_];
+      offsets[k] = cell.center - fmm_.scells_[sources[k]].mc;
+    }
+    m2l_->apply_float(moments.data(), offsets.data(), static_cast<int>(sources.size()), L);
+    ops += sources.size();
+    if (cell.child_first < 0) build_near_plan(c);
+  }
+  // Then the parents' expansions down (parents first: by level, one pass per
+  // level) and the field polynomials.
   for (size_t s = 0; s < todo.size();) {
     size_t e = s;
     const int level = fmm_.tcells_[todo[s]].level;
     while (e < todo.size() && fmm_.tcells_[todo[e]].level == level) ++e;
-    // A level of a few cells is not worth a fork/join (see trace.cpp).
-#pragma omp parallel for num_threads(threads_) schedule(dynamic, 4) reduction(+ : ops) if (e - s >= 32)
+#pragma omp parallel for num_threads(threads_) schedule(static) if (e - s >= 32)
     for (long i = static_cast<long>(s); i < static_cast<long>(e); ++i) {
       const int c = todo[i];
       const auto& cell = fmm_.tcells_[c];
       double* L = local(slot_[c]);
-      std::fill_n(L, ncoef_, 0.0);
       if (cell.parent >= 0) fmm_.basis_.l2l(local(slot_[cell.parent]), cell.center - fmm_.tcells_[cell.parent].center, L);
-      const auto& sources = fmm_.m2l_[c];
-      std::vector<const double*> moments(sources.size());
-      std::vector<Vec3> offsets(sources.size());
-      for (size_t k = 0; k < sources.size(); ++k) {
-        moments[k] = &M_[static_cast<size_t>(sources[k]) * ncoef_];
-        offsets[k] = cell.center - fmm_.scells_[sources[k]].mc;
-      }
-      m2l_->apply_float(moments.data(), offsets.data(), static_cast<int>(sources.size()), L);
-      ops += sources.size();
       field_expansion_->from_local(L, polynomials(slot_[c]));
-      if (cell.child_first < 0) build_near_plan(c);
     }
     s = e;
   }
