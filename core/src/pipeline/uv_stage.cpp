@@ -150,6 +150,7 @@ void relax_stage(const Soup& soup, const atlas::Atlas& atlas, const MapOptions& 
   io.texture_size = options.metrics_texture_size;
   io.uv_per_length = atlas.uv_per_length;
   io.threads = threads;
+  io.also_weld = welds.weld;
   const transfer::IslandRelaxResult r =
       transfer::relax_islands(soup, *welds.corners, s.tr.corner_uvs, io, progress);
   s.island.update(r.diagnostics());

@@ -7,30 +7,49 @@
 
 namespace soupuv::transfer::detail {
 
-IslandMeshes island_meshes(const Soup& soup, const quality::Weld& weld,
+IslandMeshes island_meshes(const Soup& soup, const quality::Weld& weld, const quality::Weld* also,
                            const std::vector<std::array<Vec2, 3>>& corner_uvs, double texel,
                            double uv_per_length) {
   const size_t n = corner_uvs.size(), corners = 3 * n;
   IslandMeshes m;
-  // Corners of each welded vertex (CSR).
-  std::vector<uint32_t> start(weld.vertex_count + 1, 0), members(corners);
-  for (size_t c = 0; c < corners; ++c) ++start[weld.corner_vertex[c] + 1];
-  std::partial_sum(start.begin(), start.end(), start.begin());
-  std::vector<uint32_t> fill(start.begin(), start.end() - 1);
-  for (size_t c = 0; c < corners; ++c) members[fill[weld.corner_vertex[c]]++] = uint32_t(c);
-
-  // Continuous copies join (the weld never puts two corners of one triangle
-  // in a group, so no triangle collapses).
+  // Continuous copies join, unless that would put two corners of one
+  // triangle in one vertex (one weld never does; two welds' groups chained
+  // could). Each class keeps its triangles to check that.
   UnionFind copies(corners);
+  std::vector<std::vector<uint32_t>> triangles_of(corners);
+  for (uint32_t c = 0; c < corners; ++c) triangles_of[c] = {c / 3};
   auto uv_of = [&](uint32_t c) { return corner_uvs[c / 3][c % 3]; };
   auto xyz_of = [&](uint32_t c) { return soup.corner(c / 3, int(c % 3)); };
-  for (uint32_t v = 0; v < weld.vertex_count; ++v)
-    for (uint32_t i = start[v]; i < start[v + 1]; ++i)
-      for (uint32_t j = i + 1; j < start[v + 1]; ++j) {
-        const uint32_t a = members[i], b = members[j];
-        if (norm(uv_of(a) - uv_of(b)) <= texel + 2 * norm(xyz_of(a) - xyz_of(b)) * uv_per_length)
-          copies.unite(a, b);
-      }
+  auto join = [&](uint32_t a, uint32_t b) {
+    uint32_t ra = copies.find(a), rb = copies.find(b);
+    if (ra == rb) return;
+    auto& ta = triangles_of[ra];
+    auto& tb = triangles_of[rb];
+    for (uint32_t t : ta)
+      if (std::find(tb.begin(), tb.end(), t) != tb.end()) return;
+    copies.unite(ra, rb);
+    const uint32_t root = copies.find(ra), other = root == ra ? rb : ra;
+    auto& keep = triangles_of[root];
+    auto& gone = triangles_of[other];
+    keep.insert(keep.end(), gone.begin(), gone.end());
+    gone = {};
+  };
+  for (const quality::Weld* w : {&weld, also}) {
+    if (!w || w->corner_vertex.size() != corners) continue;
+    // Corners of each welded vertex (CSR).
+    std::vector<uint32_t> start(w->vertex_count + 1, 0), members(corners);
+    for (size_t c = 0; c < corners; ++c) ++start[w->corner_vertex[c] + 1];
+    std::partial_sum(start.begin(), start.end(), start.begin());
+    std::vector<uint32_t> fill(start.begin(), start.end() - 1);
+    for (size_t c = 0; c < corners; ++c) members[fill[w->corner_vertex[c]]++] = uint32_t(c);
+    for (uint32_t v = 0; v < w->vertex_count; ++v)
+      for (uint32_t i = start[v]; i < start[v + 1]; ++i)
+        for (uint32_t j = i + 1; j < start[v + 1]; ++j) {
+          const uint32_t a = members[i], b = members[j];
+          if (norm(uv_of(a) - uv_of(b)) <= texel + 2 * norm(xyz_of(a) - xyz_of(b)) * uv_per_length)
+            join(a, b);
+        }
+  }
 
   // Island vertices in order of first corner; their UV the corners' mean.
   m.vertex_of_corner.assign(corners, UINT32_MAX);

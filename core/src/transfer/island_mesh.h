@@ -1,7 +1,7 @@
 // The UV islands of a map as meshes (private to the transfer module; the
 // island relaxation works on them).
 //
-// Input : a weld (corner -> welded vertex), corner UVs, the soup (for the
+// Input : one or two welds (corner -> welded vertex), corner UVs, the soup (for the
 //         copies' 3D distance), the continuity test's texel and scale.
 // Output: island vertices — the corners of one welded vertex whose UVs are
 //         within texel + 2 x (3D distance) x uv_per_length of each other,
@@ -27,7 +27,9 @@ struct IslandMeshes {
   size_t snapped_corners = 0;  // corners whose UV differs from their vertex's
 };
 
-IslandMeshes island_meshes(const Soup& soup, const quality::Weld& weld,
+// `also` (may be null): a second weld of the same soup whose groups are
+// tested too (a copy one weld missed, the other may join).
+IslandMeshes island_meshes(const Soup& soup, const quality::Weld& weld, const quality::Weld* also,
                            const std::vector<std::array<Vec2, 3>>& corner_uvs, double texel,
                            double uv_per_length);
 

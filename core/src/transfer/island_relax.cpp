@@ -316,7 +316,7 @@ IslandRelaxResult relax_islands(const Soup& soup, const quality::Weld& weld,
   r.stretch_l2_before = r.stretch_l2_after = map_l2(soup, corner_uvs);
   const double texel = 1.0 / std::max(1, options.texture_size);
   const detail::IslandMeshes meshes = detail::island_meshes(
-      soup, weld, corner_uvs, texel,
+      soup, weld, options.also_weld, corner_uvs, texel,
       options.uv_per_length > 0 ? options.uv_per_length : scale.uv_per_length);
   r.islands = meshes.islands.size();
   r.snapped_corners = meshes.snapped_corners;

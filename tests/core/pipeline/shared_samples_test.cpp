@@ -35,8 +35,18 @@ nlohmann::json map_shared(const std::string& name) {
   return run_map(soup, o).diagnostics;
 }
 
-void check(const Sample& s) {
-  const nlohmann::json d = map_shared(s.name);
+// A real glTF sample (continuity by welding: no original).
+nlohmann::json map_gltf(const std::string& path) {
+  io::LoadOptions lo;
+  lo.allow_external_uris = true;
+  const Soup soup = io::load_file(std::string(SOUPUV_SHARED_DATA) + "/gltf/" + path, lo).soup;
+  MapOptions o = fast_options();
+  o.candidates = map_candidates();
+  o.uv_repair = true;
+  return run_map(soup, o).diagnostics;
+}
+
+void check(const Sample& s, const nlohmann::json& d) {
   const auto& uv = d["uv"];
   const auto& before = d["uv_repair"]["before"];
   std::cout << s.name << ": " << uv.dump() << "\n  before repair: " << before.dump() << "\n";
@@ -48,7 +58,14 @@ void check(const Sample& s) {
   EXPECT_GT(uv["repaired_vertices"].get<size_t>(), 0u);
   EXPECT_LT(uv["stretch_l2"].get<double>(), before["stretch_l2"].get<double>());
   EXPECT_LE(uv["flipped_fraction"].get<double>(), before["flipped_fraction"].get<double>());
+  // The island relaxation (transfer/island_relax.h) never adds overlap.
+  const auto& ir = d["island_relax"];
+  EXPECT_TRUE(ir["ran"].get<bool>());
+  EXPECT_LE(ir["overlap_texels_after"].get<long>(), ir["overlap_texels_before"].get<long>());
+  EXPECT_LE(ir["stretch_l2_after"].get<double>(), ir["stretch_l2_before"].get<double>());
 }
+
+void check(const Sample& s) { check(s, map_shared(s.name)); }
 
 }  // namespace
 
@@ -71,3 +88,10 @@ TEST(SharedSamples, Suzanne) { check({"suzanne", 0.005, 1.3, 0.965}); }
 TEST(SharedSamples, Spot) { check({"spot", 0.005, 1.3, 0.978}); }
 
 TEST(SharedSamples, Teapot) { check({"teapot", 0.005, 1.3, 0.96}); }
+
+// Fox (576 triangles, continuity by welding), session 8: the island
+// relaxation brings atlas's o37d candidate (0.954 continuity, L2 1.47 as
+// landed) under the 1.3 bound (1.29), so the search takes it: 0.9537 / 0 %
+// / 1.292 (`soupuv-bench pipeline --only Fox`, loaded machine; session 7:
+// 0.9236 with nc120d). The floor is the 0.95.
+TEST(SharedSamples, Fox) { check({"Fox", 0.005, 1.3, 0.95}, map_gltf("Fox/Fox.gltf")); }

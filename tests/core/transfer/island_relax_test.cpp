@@ -302,3 +302,26 @@ TEST(IslandRelax, FlippedTrianglesStayFixedAndNothingNewFlips) {
   EXPECT_EQ(m1.continuity, m0.continuity);
   EXPECT_LE(r.overlap_texels_after, r.overlap_texels_before);
 }
+
+// A second weld that joins distinct vertices (far too loose) chained with the
+// first could put two corners of one triangle into one island vertex; such
+// joins are refused, and whatever the loose weld does to the islands (here:
+// distinct vertices joined, so the snapped islands fold and are rejected),
+// nothing collapses or flips and no continuous pair is cut.
+TEST(IslandRelax, ASecondLooseWeldNeverCollapsesATriangle) {
+  soupuv::testing::UvGridCase c;
+  for (auto& t : c.uvs)
+    for (Vec2& p : t) p = {0.05 + (p.x - 0.05) * 0.7, p.y};
+  const Uvs before = c.uvs;
+  const quality::Weld loose = quality::weld_corners(c.soup, 1.5);
+  IslandRelaxOptions o;
+  o.also_weld = &loose;
+  const IslandRelaxResult r = relax_islands(c.soup, c.weld, c.uvs, o);
+  EXPECT_EQ(r.relaxed + r.rejected_flipped + r.rejected_no_gain + r.rejected_overlap +
+                r.rejected_outside + r.skipped_fixed + r.skipped_small,
+            r.islands);
+  const quality::UvMetrics m = metrics(c.soup, c.weld, c.uvs);
+  EXPECT_EQ(m.flipped, 0u);
+  EXPECT_EQ(m.continuity, 1.0);
+  expect_continuous_pairs_kept(c.soup, c.weld, before, c.uvs);
+}

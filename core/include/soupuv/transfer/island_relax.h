@@ -15,7 +15,8 @@
 //         and total figures. A rejected island keeps its UVs bit for bit.
 //
 // Method:
-//   - Island vertices: the corners of one welded vertex whose UVs are
+//   - Island vertices: the corners of one welded vertex (of `weld`, or of
+//     options.also_weld; never two corners of one triangle) whose UVs are
 //     continuous (within 1 texel + 2 x their 3D distance at the map's scale,
 //     the continuity metric's own test; transitively) are one vertex, at
 //     their mean UV; corners apart stay apart. Islands are the components of
@@ -79,6 +80,10 @@ struct IslandRelaxOptions {
   // Islands with fewer triangles are left alone (nothing to gain).
   size_t min_island_triangles = 4;
   int threads = 0;  // 0 = OpenMP default
+  // A second weld of the soup whose groups are joined too (the pipeline
+  // passes its edge weld: copies farther apart than the corner weld's
+  // tolerance that still match by edges); nullptr: `weld` alone.
+  const quality::Weld* also_weld = nullptr;
 };
 
 struct IslandFigures {
