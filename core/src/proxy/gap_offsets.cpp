@@ -141,60 +141,78 @@ GapOffsets gap_offsets(const TriangleBvh& bvh, const GapOffsetOptions& options) 
     centroid[t] = (tri[0] + tri[1] + tri[2]) / 3.0;
     radius[t] = std::max({norm(tri[0] - centroid[t]), norm(tri[1] - centroid[t]), norm(tri[2] - centroid[t])});
   }
-  // Only gaps below 2 (o + m) narrow an offset; a far triangle must be
-  // closer than that, and its walk is bounded by kappa times it (+ radii).
+  // Only gaps below 2 (o + m) narrow an offset: a far triangle must be
+  // closer than that.
   const double gap_limit = 2 * (o + options.margin);
-  double largest_radius = 0;
-  for (double r : radius) largest_radius = std::max(largest_radius, r);
-  const double walk_limit = options.detour * gap_limit + 2 * largest_radius;
 
   const int threads = options.threads > 0 ? options.threads : omp_get_max_threads();
 #pragma omp parallel num_threads(threads)
   {
     // Walk distances by triangle, reset after each walk through `touched`.
     std::vector<double> walk(n, INFINITY);
+    std::vector<char> settled(n, 0);
     std::vector<uint32_t> touched;
     CandidateList near;
+    std::vector<std::pair<double, uint32_t>> candidates;  // (distance, triangle)
     using Item = std::pair<double, uint32_t>;
     std::priority_queue<Item, std::vector<Item>, std::greater<Item>> queue;
 #pragma omp for schedule(dynamic, 16)
     for (long ti = 0; ti < long(n); ++ti) {
       const uint32_t t = uint32_t(ti);
-      // Dijkstra over touching triangles, centroid to centroid.
-      walk[t] = 0;
-      touched.push_back(t);
-      queue.push({0.0, t});
-      while (!queue.empty()) {
-        auto [d, u] = queue.top();
-        queue.pop();
-        if (d > walk[u]) continue;
-        for (uint32_t e = start[u]; e < start[u + 1]; ++e) {
-          const uint32_t v = adjacent[e];
-          const double dv = d + norm(centroid[v] - centroid[u]);
-          if (dv < walk[v] && dv <= walk_limit) {
-            if (walk[v] == INFINITY) touched.push_back(v);
-            walk[v] = dv;
-            queue.push({dv, v});
-          }
-        }
-      }
+      // The triangles within gap_limit in space, nearest first: the first
+      // one that is far along the soup gives the gap.
       Box3 box;
       for (const Vec3& p : bvh.triangle(t)) box.add(p);
       bvh.gather(box, gap_limit, near);
-      double gap = INFINITY;
+      candidates.clear();
       for (size_t k = 0; k < near.size(); ++k) {
         const uint32_t u = near.ids[k];
         if (u == t) continue;
         const double d = triangle_triangle_distance(bvh.triangle(t), bvh.triangle(u));
-        if (d >= gap || d >= gap_limit) continue;
-        const bool far = walk[u] > options.detour * d + radius[t] + radius[u];
-        if (far) gap = d;
+        if (d < gap_limit) candidates.push_back({d, u});
       }
+      std::sort(candidates.begin(), candidates.end());
+      // Dijkstra over touching triangles (centroid to centroid), run only as
+      // far as the candidate at hand needs: it stops once the candidate is
+      // settled (its walk is exact) or the next walk exceeds the bound (then
+      // the candidate's walk does too). On a smooth patch the walk to a near
+      // candidate is about its distance, so the search stays within about
+      // gap_limit instead of detour * gap_limit.
+      walk[t] = 0;
+      touched.push_back(t);
+      queue.push({0.0, t});
+      auto extend = [&](double bound, uint32_t target) {
+        while (!settled[target] && !queue.empty() && queue.top().first <= bound) {
+          auto [d, u] = queue.top();
+          queue.pop();
+          if (d > walk[u]) continue;
+          settled[u] = 1;
+          for (uint32_t e = start[u]; e < start[u + 1]; ++e) {
+            const uint32_t v = adjacent[e];
+            const double dv = d + norm(centroid[v] - centroid[u]);
+            if (dv < walk[v]) {
+              if (walk[v] == INFINITY) touched.push_back(v);
+              walk[v] = dv;
+              queue.push({dv, v});
+            }
+          }
+        }
+      };
+      double gap = INFINITY;
+      for (const auto& [d, u] : candidates) {
+        const double bound = options.detour * d + radius[t] + radius[u];
+        extend(bound, u);
+        if (!(settled[u] && walk[u] <= bound)) {
+          gap = d;
+          break;
+        }
+      }
+      while (!queue.empty()) queue.pop();
       if (gap < gap_limit) {
         const double local = std::clamp(0.5 * gap - options.margin, options.min_offset, o);
         result.shift[t] = o - local;
       }
-      for (uint32_t v : touched) walk[v] = INFINITY;
+      for (uint32_t v : touched) walk[v] = INFINITY, settled[v] = 0;
       touched.clear();
     }
   }

@@ -21,11 +21,18 @@
 // would give d(t, t') < o_t + o_t' <= (gap_t + gap_t')/2 - 2m <= d(t, t') - 2m.
 // So the shells of two far parts stay at least 2m apart; with m near the
 // grid cell the level set sees the slit between them.
-// Cost: a bounded Dijkstra and a BVH gather per triangle: O(n k log k) for k
-// triangles within kappa * 2o along the soup — O(n) while the offset is small
-// against the soup, but k nears n when it is not (measured: the teapot soup,
-// whose automatic ladder climbs to 0.12 with keep_gaps because its separate
-// parts stay apart, 6,320 triangles: 59-74 s of the run on a loaded machine).
+// Cost: per triangle, the k triangles within 2(o + m) in space (BVH gather,
+// exact triangle distances, sorted) and a Dijkstra run lazily only as far as
+// the nearest candidates need (it stops at the first far one, or when a near
+// one is settled). k grows with the soup's density at a fixed offset
+// fraction, so the whole is QUADRATIC in n: `soupuv-bench proxy --only=gaps`
+// (two noisy spheres, offset 0.03, loaded machine): 0.31 s at 2,448
+// triangles, 4.7 s at 9,520 (slope 2.0; the first, unlazy version took
+// 0.59 / 9.8 / 555 s at 2.4k / 9.5k / 40k). Meant for the small coarse soups
+// of the candidate search (Fox, 576 triangles: 0.10-0.26 s), not for big
+// soups. When the offset is large against the soup, k nears n: the teapot
+// with keep_gaps climbs the automatic ladder to 0.12 (its separate parts stay
+// apart) and its proxy took 52 s (first version).
 #pragma once
 
 #include <vector>

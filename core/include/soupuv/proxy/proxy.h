@@ -84,7 +84,8 @@ struct ProxyOptions {
   // gap_weld_fraction of the diagonal touch: it must exceed the distance
   // between the split copies of a vertex (the shared soups: noise up to 1e-3
   // of the diagonal per coordinate, copies up to 3.5e-3 apart), or touching
-  // triangles count as far apart and get narrowed.
+  // triangles count as far apart and get narrowed. Quadratic in the soup's
+  // triangles (gap_offsets.h): for small soups only.
   bool keep_gaps = false;
   double gap_resolution_factor = 2;
   double gap_min_offset_cells = 1;
