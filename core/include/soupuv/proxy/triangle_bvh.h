@@ -95,11 +95,23 @@ class TriangleBvh {
   std::vector<Box3> tri_boxes_;  // per triangle, in tris_ order (cheap lower bounds)
   std::vector<double> shift_;    // per triangle, in tris_ order, or empty
   // Squared shifted distance of triangle i from its squared distance d2.
+  // The queries are compiled twice (kShifted false / true) so the unshifted
+  // proxy pays nothing for the shifts (measured: a run-time test per
+  // triangle made banded queries ~3.5 % slower).
+  template <bool kShifted>
   double shifted2(uint32_t i, double d2) const {
-    if (shift_.empty() || shift_[i] == 0) return d2;
-    const double d = std::sqrt(d2) + shift_[i];
-    return d * d;
+    if constexpr (!kShifted) {
+      return d2;
+    } else {
+      if (shift_[i] == 0) return d2;
+      const double d = std::sqrt(d2) + shift_[i];
+      return d * d;
+    }
   }
+  template <bool kShifted>
+  double distance_impl(Vec3 p, double lo, double hi, uint32_t* nearest) const;
+  template <bool kShifted>
+  double distance_among_impl(Vec3 p, const CandidateList& list, double lo, double hi, uint32_t* nearest) const;
 };
 
 }  // namespace soupuv::proxy
