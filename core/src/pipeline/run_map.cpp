@@ -185,16 +185,20 @@ nlohmann::json search_candidates(const Soup& soup, const pipeline::FieldBranchRe
     Progress inner([&progress, at](std::string_view, double) { progress.update("candidates", at); });
     progress.update("candidates", at);
     const MapCandidate& c = options.candidates[i];
+    // The caller's seam hints hold for every candidate (a candidate chosen
+    // without them would silently drop them).
+    atlas::AtlasOptions candidate_atlas = c.atlas;
+    candidate_atlas.seam_hints = options.atlas.seam_hints;
     auto t_candidate = Clock::now();
     pipeline::ProxyBranch b;
     if (c.proxy_offset_fraction > 0) {
       proxy::ProxyOptions po = options.proxy;
       po.offset_mode = proxy::OffsetMode::relative;
       po.offset = c.proxy_offset_fraction;
-      b = pipeline::run_proxy_branch(soup, po, c.atlas, options.relax_max_soup_per_proxy_face, threads, inner);
+      b = pipeline::run_proxy_branch(soup, po, candidate_atlas, options.relax_max_soup_per_proxy_face, threads, inner);
     } else {
       b.proxy = pb.proxy;  // the first proxy: its atlas alone differs
-      pipeline::build_branch_atlas(soup, b, c.atlas, options.relax_max_soup_per_proxy_face, threads, inner);
+      pipeline::build_branch_atlas(soup, b, candidate_atlas, options.relax_max_soup_per_proxy_face, threads, inner);
     }
     pipeline::UvStage u = pipeline::run_uv_stage(soup, field, b, options, welds, threads, inner);
     pipeline::CandidateFigures f = figures_of(b, u, i);
