@@ -225,7 +225,11 @@ struct MapOptions {
   // missed; without it suzanne lost 4 continuous pairs of the original's,
   // 0.9686 -> 0.9659). Runs on soups of at most
   // island_relax_max_triangles (0: any size): the gate of the candidate
-  // search, whose soups it is for. Measured on Fox (`soupuv-bench pipeline
+  // search, whose soups it is for. Ungated on the 100k torus (`soupuv-bench
+  // pipeline --only torus-100k --island-max-triangles 0`, loaded machine) it
+  // gains nothing (L2 1.15247 -> 1.15247: its islands of 13k-28k triangles
+  // are all rejected, "flipped") and costs 5.1 s of a 33.0 s first run and
+  // 4.1 s of an 8.4 s re-run (3.9x, under the 5x target); gated: 0 s. Measured on Fox (`soupuv-bench pipeline
   // --only Fox`, loaded machine), per candidate L2 before -> after: nc120d
   // 1.298 -> 1.213, nc150d 1.413 -> 1.302, atlas's o37d 1.474 -> 1.292, so
   // o37d becomes admissible and is chosen: continuity 0.9236 -> 0.9537.
