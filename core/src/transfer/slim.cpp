@@ -70,6 +70,31 @@ double safe_step(const RestTriangle& r, const std::array<Vec2, 3>& uv, const std
   return std::min(cap, 0.8 * root);
 }
 
+// One flip-free backtracking step: alpha starts at the largest step (<= 1)
+// that keeps every triangle positive, then halves until `energy` drops.
+// On success uv moves to uv + alpha step and the new energy is returned;
+// otherwise uv is unchanged and +inf is returned.
+template <class Energy>
+double flip_free_backtrack(const std::vector<std::array<uint32_t, 3>>& triangles,
+                           const std::vector<RestTriangle>& rest, std::vector<Vec2>& uv,
+                           const std::vector<Vec2>& step, std::vector<Vec2>& target, double current,
+                           const Energy& energy) {
+  double alpha = 1;
+  for (size_t t = 0; t < triangles.size(); ++t)
+    if (rest[t].valid)
+      alpha = std::min(alpha, safe_step(rest[t], corners_of(triangles[t], uv),
+                                        corners_of(triangles[t], step), alpha));
+  for (int halving = 0; halving < 30 && alpha > 1e-12; ++halving, alpha *= 0.5) {
+    for (size_t v = 0; v < uv.size(); ++v) target[v] = uv[v] + step[v] * alpha;
+    const double next = energy(target);
+    if (next < current) {
+      uv.swap(target);
+      return next;
+    }
+  }
+  return kInf;
+}
+
 // One triangle's S and U terms (see mesh_l2_form); false when not positive.
 bool l2_terms(const RestTriangle& r, const std::array<Vec2, 3>& uv, double& s, double& u) {
   const Jacobian J = jacobian(r, uv);
@@ -180,20 +205,10 @@ SlimResult slim_relax(const std::vector<std::array<uint32_t, 3>>& triangles,
       const uint32_t i = unknown[v];
       step[v] = i == kFixed ? Vec2{0, 0} : Vec2{x[2 * i] - uv[v].x, x[2 * i + 1] - uv[v].y};
     }
-    double alpha = 1;
-    for (size_t t = 0; t < triangles.size(); ++t) {
-      if (!rest[t].valid) continue;
-      alpha = std::min(alpha, safe_step(rest[t], corners_of(triangles[t], uv),
-                                        corners_of(triangles[t], step)));
-    }
-    double next = kInf;
-    for (int halving = 0; halving < 30 && alpha > 1e-12; ++halving, alpha *= 0.5) {
-      for (size_t v = 0; v < uv.size(); ++v) target[v] = uv[v] + step[v] * alpha;
-      next = mesh_energy(triangles, rest, target);
-      if (next < current) break;
-    }
+    const double next = flip_free_backtrack(
+        triangles, rest, uv, step, target, current,
+        [&](const std::vector<Vec2>& x) { return mesh_energy(triangles, rest, x); });
     if (!(next < current)) break;
-    uv.swap(target);
     const double gain = (current - next) / current;
     current = next;
     result.iterations = it + 1;
@@ -337,19 +352,11 @@ SlimResult l2_relax(const std::vector<std::array<uint32_t, 3>>& triangles,
       const uint32_t i = unknown[v];
       step[v] = i == kFixed ? Vec2{0, 0} : Vec2{-x[2 * i], -x[2 * i + 1]};
     }
-    double alpha = 1;
-    for (size_t t = 0; t < triangles.size(); ++t)
-      if (rest[t].valid)
-        alpha = std::min(alpha, safe_step(rest[t], corners_of(triangles[t], uv),
-                                          corners_of(triangles[t], step), alpha));
-    double next = kInf;
-    for (int halving = 0; halving < 30 && alpha > 1e-12; ++halving, alpha *= 0.5) {
-      for (size_t v = 0; v < uv.size(); ++v) target[v] = uv[v] + step[v] * alpha;
-      next = mesh_l2_form(triangles, rest, target, others_s, others_u);
-      if (next < current) break;
-    }
+    const double next = flip_free_backtrack(
+        triangles, rest, uv, step, target, current, [&](const std::vector<Vec2>& x) {
+          return mesh_l2_form(triangles, rest, x, others_s, others_u);
+        });
     if (!(next < current)) break;
-    uv.swap(target);
     const double gain = (current - next) / current;
     current = next;
     result.iterations = it + 1;

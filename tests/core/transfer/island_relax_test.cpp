@@ -34,6 +34,30 @@ TriMesh grid_mesh(int w, int h) {
   return m;
 }
 
+// The solvers' slow-twin problem: a 3 x 2 grid bent onto z = 0.4 x^2 at
+// scale 0.1, started from the flat grid squeezed along x and sheared (every
+// triangle positive), with two corners fixed (one would leave a rotation
+// free: the energies are invariant to it).
+struct BentGrid {
+  std::vector<std::array<uint32_t, 3>> tris;
+  std::vector<detail::RestTriangle> rest;
+  std::vector<Vec2> start;
+  std::vector<uint8_t> fixed;
+};
+
+BentGrid bent_grid() {
+  const TriMesh m = grid_mesh(3, 2);
+  BentGrid g;
+  for (const auto& f : m.faces) g.tris.push_back({uint32_t(f[0]), uint32_t(f[1]), uint32_t(f[2])});
+  std::vector<Vec3> p = m.vertices;
+  for (Vec3& v : p) v.z = 0.4 * v.x * v.x;
+  for (const auto& t : g.tris) g.rest.push_back(detail::rest_triangle(p[t[0]], p[t[1]], p[t[2]], 0.1, 1));
+  for (const Vec3& v : m.vertices) g.start.push_back({0.2 + 0.05 * v.x + 0.01 * v.y, 0.2 + 0.1 * v.y});
+  g.fixed.assign(g.start.size(), 0);
+  g.fixed[0] = g.fixed[3] = 1;
+  return g;
+}
+
 using Uvs = std::vector<std::array<Vec2, 3>>;
 
 Uvs map_corners(const Soup& soup, Vec2 (*f)(Vec3)) {
@@ -74,19 +98,8 @@ void expect_continuous_pairs_kept(const Soup& soup, const quality::Weld& weld, c
 // backtracking, thousands of steps) on a tiny mesh with two corners fixed
 // (one would leave a rotation free: the energy is invariant to it).
 TEST(Slim, ReachesThePlainGradientDescentsMinimum) {
-  const TriMesh m = grid_mesh(3, 2);
-  std::vector<std::array<uint32_t, 3>> tris;
-  for (const auto& f : m.faces) tris.push_back({uint32_t(f[0]), uint32_t(f[1]), uint32_t(f[2])});
-  // Rest: the triangles of a bent surface (z = 0.4 x^2), scale 0.1.
-  std::vector<Vec3> p = m.vertices;
-  for (Vec3& v : p) v.z = 0.4 * v.x * v.x;
-  std::vector<detail::RestTriangle> rest;
-  for (const auto& t : tris) rest.push_back(detail::rest_triangle(p[t[0]], p[t[1]], p[t[2]], 0.1, 1));
-  // Start: the flat grid squeezed along x, sheared (every triangle positive).
-  std::vector<Vec2> start;
-  for (const Vec3& v : m.vertices) start.push_back({0.2 + 0.05 * v.x + 0.01 * v.y, 0.2 + 0.1 * v.y});
-  std::vector<uint8_t> fixed(start.size(), 0);
-  fixed[0] = fixed[3] = 1;
+  const BentGrid grid = bent_grid();
+  const auto& [tris, rest, start, fixed] = grid;
 
   std::vector<Vec2> fast = start;
   detail::SlimOptions so;
@@ -130,17 +143,8 @@ TEST(Slim, ReachesThePlainGradientDescentsMinimum) {
 // form F = S U (mesh_l2_form), with central finite-difference gradients, on
 // a tiny bent mesh with two corners fixed; both end at the same F.
 TEST(Slim, L2DescentReachesTheFiniteDifferenceDescentsMinimum) {
-  const TriMesh m = grid_mesh(3, 2);
-  std::vector<std::array<uint32_t, 3>> tris;
-  for (const auto& f : m.faces) tris.push_back({uint32_t(f[0]), uint32_t(f[1]), uint32_t(f[2])});
-  std::vector<Vec3> p = m.vertices;
-  for (Vec3& v : p) v.z = 0.4 * v.x * v.x;
-  std::vector<detail::RestTriangle> rest;
-  for (const auto& t : tris) rest.push_back(detail::rest_triangle(p[t[0]], p[t[1]], p[t[2]], 0.1, 1));
-  std::vector<Vec2> start;
-  for (const Vec3& v : m.vertices) start.push_back({0.2 + 0.05 * v.x + 0.01 * v.y, 0.2 + 0.1 * v.y});
-  std::vector<uint8_t> fixed(start.size(), 0);
-  fixed[0] = fixed[3] = 1;
+  const BentGrid grid = bent_grid();
+  const auto& [tris, rest, start, fixed] = grid;
   // Some of "the rest of the map", held fixed.
   const double others_s = 0.02, others_u = 0.05;
 
