@@ -70,6 +70,16 @@ double safe_step(const RestTriangle& r, const std::array<Vec2, 3>& uv, const std
   return std::min(cap, 0.8 * root);
 }
 
+// Gives each free vertex its index among the unknowns (kFixed for a fixed
+// one); returns how many are free.
+uint32_t number_free_vertices(const std::vector<uint8_t>& fixed, std::vector<uint32_t>& unknown) {
+  unknown.assign(fixed.size(), kFixed);
+  uint32_t count = 0;
+  for (size_t v = 0; v < fixed.size(); ++v)
+    if (!fixed[v]) unknown[v] = count++;
+  return count;
+}
+
 // One flip-free backtracking step: alpha starts at the largest step (<= 1)
 // that keeps every triangle positive, then halves until `energy` drops.
 // On success uv moves to uv + alpha step and the new energy is returned;
@@ -125,10 +135,8 @@ SlimResult slim_relax(const std::vector<std::array<uint32_t, 3>>& triangles,
   result.energy_before = result.energy_after = mesh_energy(triangles, rest, uv);
   if (!std::isfinite(result.energy_before)) return result;
   result.started = true;
-  std::vector<uint32_t> unknown(uv.size(), kFixed);
-  uint32_t free_count = 0;
-  for (size_t v = 0; v < uv.size(); ++v)
-    if (!fixed[v]) unknown[v] = free_count++;
+  std::vector<uint32_t> unknown;
+  const uint32_t free_count = number_free_vertices(fixed, unknown);
   if (free_count == 0) return result;
   const Eigen::Index n = 2 * Eigen::Index(free_count);
 
@@ -240,10 +248,8 @@ SlimResult l2_relax(const std::vector<std::array<uint32_t, 3>>& triangles,
   result.energy_before = result.energy_after = mesh_l2_form(triangles, rest, uv, others_s, others_u);
   if (!std::isfinite(result.energy_before)) return result;
   result.started = true;
-  std::vector<uint32_t> unknown(uv.size(), kFixed);
-  uint32_t free_count = 0;
-  for (size_t v = 0; v < uv.size(); ++v)
-    if (!fixed[v]) unknown[v] = free_count++;
+  std::vector<uint32_t> unknown;
+  const uint32_t free_count = number_free_vertices(fixed, unknown);
   if (free_count == 0) return result;
   const Eigen::Index n = 2 * Eigen::Index(free_count);
 
