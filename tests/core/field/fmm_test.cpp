@@ -130,3 +130,55 @@ TEST(Fmm, CopyForAnotherOrderMatchesAFreshBuild) {
   EXPECT_LT(worst, 1e-13);
   EXPECT_GT(order_gap, 1e-9);  // it really is the lower order, not the base's expansions
 }
+
+TEST(Fmm, ParallelTreeBuildMatchesTheSerialOne) {
+  // With threads > 1 the target subtrees below a frontier are built in
+  // parallel and spliced (fmm.cpp, TargetBuild): only cell numbers may differ
+  // from the serial build, so every evaluation must agree bit for bit. Both
+  // target-tree kinds: a region (the tracer) and known targets (collocation).
+  Soup soup = shapes::to_soup(shapes::torus_with(1.0, 0.5, 6400), 1e-3, 5);
+  SourceGeometry src = make_sources(soup.positions, soup.triangles, 4);
+  std::vector<double> q(src.size());
+  std::mt19937 rng(13);
+  std::uniform_real_distribution<double> u(0.5, 1.5), box(-2, 2);
+  for (double& v : q) v = u(rng);
+  std::vector<Vec3> probes;
+  for (size_t j = 0; j < src.size(); j += 5) probes.push_back(src.centroid[j]);
+  for (int i = 0; i < 500; ++i) probes.push_back({box(rng), box(rng), box(rng) * 0.5});
+  Box3 region;
+  region.add({-3, -3, -3});
+  region.add({3, 3, 3});
+  for (bool known_targets : {false, true}) {
+    FmmOptions fo;
+    fo.order = 6;
+    fo.leaf_size = 16;
+    fo.threads = 1;
+    Fmm serial = known_targets ? Fmm(src, fo, src.centroid) : Fmm(src, fo, region);
+    fo.threads = 2;
+    Fmm parallel = known_targets ? Fmm(src, fo, src.centroid) : Fmm(src, fo, region);
+    EXPECT_EQ(serial.stats().target_cells, parallel.stats().target_cells);
+    EXPECT_EQ(serial.stats().m2l_pairs, parallel.stats().m2l_pairs);
+    EXPECT_EQ(serial.stats().near_leaf_pairs, parallel.stats().near_leaf_pairs);
+    EXPECT_GT(serial.stats().m2l_pairs, 0u);
+    serial.set_charges(q);
+    parallel.set_charges(q);
+    size_t differing = 0, located = 0;
+    for (Vec3 x : probes) {
+      const int ls = serial.locate(x), lp = parallel.locate(x);
+      if (ls < 0 || lp < 0) {
+        EXPECT_EQ(ls < 0, lp < 0);
+        continue;
+      }
+      ++located;
+      double a = 0, b = 0;
+      Vec3 ea{0, 0, 0}, eb{0, 0, 0};
+      serial.evaluate(x, &a, &ea);
+      parallel.evaluate(x, &b, &eb);
+      if (a != b || ea.x != eb.x || ea.y != eb.y || ea.z != eb.z ||
+          serial.near_source_triangles(ls) != parallel.near_source_triangles(lp))
+        ++differing;
+    }
+    EXPECT_GT(located, probes.size() / 2) << "known targets " << known_targets;
+    EXPECT_EQ(differing, 0u) << "known targets " << known_targets;
+  }
+}

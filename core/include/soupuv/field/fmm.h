@@ -114,9 +114,10 @@ class Fmm {
   };
 
   void build_source_tree();
+  // The dual-tree traversal that refines the target tree and fills m2l_ and
+  // near_ (fmm.cpp): subtrees below a frontier are built in parallel.
+  struct TargetBuild;
   void build_target_tree(Box3 region, const std::vector<Vec3>* targets);
-  void traverse(int A, int B);
-  void split_target(int A);
   // Returns the distance to the nearest closed-form triangle when want_nearest
   // (a point-triangle distance per such triangle), else infinity.
   double near_part(int leaf, Vec3 x, double* phi, Vec3* E, bool skip_close, bool want_nearest) const;
@@ -136,7 +137,6 @@ class Fmm {
 
   std::vector<TargetCell> tcells_;
   std::vector<Vec3> target_points_;      // known targets, split into cells as the tree refines
-  std::vector<std::vector<uint32_t>> target_members_;  // per target cell while building
   std::vector<std::vector<int>> tlevels_;
   std::vector<std::vector<int>> m2l_;    // per target cell: source cells
   std::vector<std::vector<int>> near_;   // per target leaf: source leaves
