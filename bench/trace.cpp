@@ -21,12 +21,19 @@
 // --no-study, --study-only, --study-triangles N, --repeat R (FMM rows: the
 // fastest of R runs; first_run_seconds / first_run_cpu_seconds: the first),
 // --field-kernel (only the evaluator's cost per point, see run_field_kernel).
+// FMM rows also carry first_run_minor_faults / last_run_minor_faults and
+// first_run_sys_seconds / last_run_sys_seconds: a first run touches fresh
+// memory, a repeat reuses the freed pages. With SOUPUV_BENCH_MARK_RUNS set,
+// each run's CLOCK_MONOTONIC start goes to stderr, to cut a
+// `perf record -k CLOCK_MONOTONIC` profile into first and later runs.
 #include <sys/resource.h>
 
 #include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
+#include <ctime>
 #include <limits>
 #include <random>
 #include <string>
@@ -74,6 +81,19 @@ double cpu_seconds() {
   rusage u{};
   getrusage(RUSAGE_SELF, &u);
   return u.ru_utime.tv_sec + u.ru_stime.tv_sec + 1e-6 * (u.ru_utime.tv_usec + u.ru_stime.tv_usec);
+}
+
+// Minor page faults and system CPU seconds of the process so far: a first
+// run that touches fresh memory pays them, a repeat reuses the freed pages.
+long minor_faults() {
+  rusage u{};
+  getrusage(RUSAGE_SELF, &u);
+  return u.ru_minflt;
+}
+double sys_seconds() {
+  rusage u{};
+  getrusage(RUSAGE_SELF, &u);
+  return u.ru_stime.tv_sec + 1e-6 * u.ru_stime.tv_usec;
 }
 
 struct SampledError {
@@ -307,14 +327,26 @@ void run_table5(const Flags& f, const bench::Args& args) {
     FieldLines lines;
     double cpu_fmm = std::numeric_limits<double>::infinity(), wall_fmm = cpu_fmm;
     double first_wall = 0, first_cpu = 0;  // the process's first run (cold allocations)
+    long first_faults = 0, last_faults = 0;
+    double first_sys = 0, last_sys = 0;
     for (int r = 0; r < f.repeat; ++r) {
-      const double cpu0 = cpu_seconds();
+      const double cpu0 = cpu_seconds(), sys0 = sys_seconds();
+      const long faults0 = minor_faults();
+      if (std::getenv("SOUPUV_BENCH_MARK_RUNS")) {  // run boundaries for perf record -k CLOCK_MONOTONIC
+        timespec ts{};
+        clock_gettime(CLOCK_MONOTONIC, &ts);
+        std::fprintf(stderr, "run %d start %.6f\n", r, ts.tv_sec + 1e-9 * ts.tv_nsec);
+      }
       lines = trace_field_lines(c, seeds, o, Progress::none(), &st);
       cpu_fmm = std::min(cpu_fmm, cpu_seconds() - cpu0);
       wall_fmm = std::min(wall_fmm, st.seconds);
+      last_faults = minor_faults() - faults0;
+      last_sys = sys_seconds() - sys0;
       if (r == 0) {
         first_wall = st.seconds;
         first_cpu = cpu_seconds() - cpu0;
+        first_faults = last_faults;
+        first_sys = last_sys;
       }
     }
     st.seconds = wall_fmm;
@@ -325,6 +357,8 @@ void run_table5(const Flags& f, const bench::Args& args) {
                  {"seeds", f.corners ? "corners" : "unique mesh vertices"}, {"seconds", st.seconds},
                  {"cpu_seconds", cpu_fmm}, {"repeat", f.repeat},
                  {"first_run_seconds", first_wall}, {"first_run_cpu_seconds", first_cpu},
+                 {"first_run_minor_faults", first_faults}, {"last_run_minor_faults", last_faults},
+                 {"first_run_sys_seconds", first_sys}, {"last_run_sys_seconds", last_sys},
                  {"build_seconds", st.build_seconds}, {"evaluations", st.evaluations},
                  {"threads", bench::threads()},
                  {"field_rel_error", o.keep_points ? err.max : NAN},

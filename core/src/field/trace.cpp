@@ -56,14 +56,18 @@ bool outside(const Box3& box, Vec3 p) {
   return p.x < box.lo.x || p.y < box.lo.y || p.z < box.lo.z || p.x > box.hi.x || p.y > box.hi.y || p.z > box.hi.z;
 }
 
-// Sorts keys by their high 32 bits, stably (LSD radix sort, two 16-bit
-// digits): the keys are built in point order, so points of one leaf stay in
-// order. A comparison sort of every batch was a serial step per evaluation
-// round while the other threads waited.
-void sort_by_high_word(std::vector<uint64_t>& keys, std::vector<uint64_t>& scratch) {
+// Sorts keys by their high 32 bits, stably (LSD radix sort, 16-bit digits):
+// the keys are built in point order, so points of one leaf stay in order.
+// A comparison sort of every batch was a serial step per evaluation round
+// while the other threads waited. The upper digit's pass is skipped when no
+// key has one (fewer than 65,535 target cells). `count` is the caller's, kept
+// between calls (no 256 KB allocation per call).
+void sort_by_high_word(std::vector<uint64_t>& keys, std::vector<uint64_t>& scratch, std::vector<uint32_t>& count,
+                       bool upper_digit) {
   scratch.resize(keys.size());
-  std::vector<uint32_t> count(1 << 16);
+  count.resize(1 << 16);
   for (int shift : {32, 48}) {
+    if (shift == 48 && !upper_digit) break;
     std::fill(count.begin(), count.end(), 0u);
     for (uint64_t k : keys) ++count[(k >> shift) & 0xffff];
     uint32_t sum = 0;
@@ -120,12 +124,14 @@ class BatchField {
     // Sort by leaf (key: leaf in the high bits, point in the low) and cut the
     // runs into chunks small enough to balance the threads.
     keys_.resize(n);
-#pragma omp parallel for num_threads(nth) schedule(static)
+    uint64_t top = 0;
+#pragma omp parallel for num_threads(nth) schedule(static) reduction(max : top)
     for (long i = 0; i < n; ++i) {
       leaf[i] = tracer_->locate(x[i], leaf[i]);
       keys_[i] = (static_cast<uint64_t>(static_cast<uint32_t>(leaf[i] + 1)) << 32) | static_cast<uint32_t>(i);
+      top = std::max(top, keys_[i] >> 48);
     }
-    sort_by_high_word(keys_, scratch_);
+    sort_by_high_word(keys_, scratch_, count_, top > 0);
     constexpr long kChunk = 32;
     chunks_.clear();
     leaves_.clear();
@@ -192,6 +198,7 @@ class BatchField {
   std::unique_ptr<Fmm> fmm_;
   std::unique_ptr<TracerField> tracer_;
   std::vector<uint64_t> keys_, scratch_;
+  std::vector<uint32_t> count_;
   std::vector<std::pair<long, long>> chunks_;
   std::vector<int> leaves_;
 };
@@ -278,7 +285,6 @@ FieldLines trace_field_lines(const ChargeResult& charges, const std::vector<Trac
     lines[s].push_back(pos[s]);
   }
   std::vector<double> nearest, h;
-  std::vector<Vec3> Efirst;
   std::vector<uint8_t> keep;
   // Trapped lines (options.trapped_steps): per line, how many steps in a row
   // it has been within 2 eps of the soup (where the step is the floor eps).
@@ -323,9 +329,11 @@ FieldLines trace_field_lines(const ChargeResult& charges, const std::vector<Trac
     field.evaluate(X, leaf, E, options.adaptive_step ? &nearest : nullptr);
     evaluations += na;
     // Step lengths; a line whose field vanished stops here (h = 0 marks it).
-    h.assign(na, 0.0);
+    // Buffers are sized, not cleared, here: every loop writes each entry.
+    h.resize(na);
 #pragma omp parallel for num_threads(step_threads) schedule(static)
     for (long a = 0; a < nal; ++a) {
+      h[a] = 0;
       line_leaf[active[a]] = leaf[a];
       if (!(norm(E[a]) > stalled_field)) {
         ends[active[a]] = LineEnd::stalled;
@@ -340,12 +348,15 @@ FieldLines trace_field_lines(const ChargeResult& charges, const std::vector<Trac
         h[a] = 0;
       }
     }
-    Efirst = E;
+    // E keeps the field at the step's start (the line's direction for the
+    // step rule); the midpoint's field goes to Ep and moves the line.
     if (midpoint) {
+      leaf_p.resize(na);
 #pragma omp parallel for num_threads(step_threads) schedule(static)
-      for (long a = 0; a < nal; ++a)
+      for (long a = 0; a < nal; ++a) {
         if (h[a] > 0) X[a] = X[a] + (0.5 * h[a] / norm(E[a])) * E[a];
-      leaf_p = leaf;
+        leaf_p[a] = leaf[a];
+      }
       field.evaluate(X, leaf_p, Ep, nullptr);
       evaluations += na;
 #pragma omp parallel for num_threads(step_threads) schedule(static)
@@ -354,21 +365,21 @@ FieldLines trace_field_lines(const ChargeResult& charges, const std::vector<Trac
         if (!(norm(Ep[a]) > stalled_field)) {
           ends[active[a]] = LineEnd::stalled;
           h[a] = 0;
-          continue;
         }
-        E[a] = Ep[a];
       }
     }
+    const std::vector<Vec3>& Emove = midpoint ? Ep : E;
     // Move the lines (in parallel), then keep the active ones in order (serial, cheap).
-    keep.assign(na, 0);
+    keep.resize(na);
     size_t stepped = 0;
 #pragma omp parallel for num_threads(step_threads) schedule(static) reduction(+ : stepped)
     for (long a = 0; a < nal; ++a) {
       const long s = active[a];
+      keep[a] = 0;
       if (!(h[a] > 0)) continue;  // stalled or trapped
-      last_dir[s] = Efirst[a] / norm(Efirst[a]);
+      last_dir[s] = E[a] / norm(E[a]);
       last_h[s] = h[a];
-      pos[s] = pos[s] + (h[a] / norm(E[a])) * E[a];
+      pos[s] = pos[s] + (h[a] / norm(Emove[a])) * Emove[a];
       ++stepped;
       if (options.keep_points) lines[s].push_back(pos[s]);
       if (norm(pos[s] - center) > stop_radius || outside(options.stop_box, pos[s])) {
