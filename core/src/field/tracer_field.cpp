@@ -208,7 +208,7 @@ TracerField::TracerField(const Fmm& fmm, const std::vector<double>& charges, int
           p[l] = static_cast<float>(y.x);
           p[8 + l] = static_cast<float>(y.y);
           p[16 + l] = static_cast<float>(y.z);
-          p[24 + l] = real ? static_cast<float>(pq_[static_cast<size_t>(k) * m_ + i]) : 0.0f;
+          p[24 + l] = real ? static_cast<float>(pq_[static_cast<size_t>(k) * m_ + i]) * tracer::kChargeScale : 0.0f;
         }
       }
     }

@@ -14,7 +14,7 @@
 // Layout of a block (TracerField: the leaf children of one source cell): its
 // triangles in slots of 8 (the SIMD lanes); per group of 8 slots, 32 + 32 m floats:
 //   cx[8] cy[8] cz[8] nr2[8]        centroid relative to the origin, (near_factor * radius)^2
-//   then per quadrature point i < m:  px[8] py[8] pz[8] pq[8]   (pq = charge * weight)
+//   then per quadrature point i < m:  px[8] py[8] pz[8] pq[8]   (pq = charge * weight * kChargeScale)
 // Padding slots have charge 0, nr2 -1 (never near) and points far away.
 #pragma once
 
@@ -23,6 +23,11 @@
 namespace soupuv::field::tracer {
 
 constexpr int kLanes = 8;
+// The block charges carry 1/8: the cube of the 1/2 that the AVX2 kernel's
+// Newton step for 1/r leaves out (inv_sqrt_twice in tracer_kernels.cpp), one
+// multiply less per source point; powers of two scale exactly, so the sums
+// are bit for bit those of the unscaled form.
+constexpr float kChargeScale = 0.125f;
 // Floats per group of 8 slots for m quadrature points per triangle.
 inline int group_floats(int m) { return 32 + 32 * m; }
 
