@@ -162,6 +162,27 @@ struct TraceOptions {
   // 12,800-triangle torus, 400 points 1e-4 .. 0.4 above the surface, field
   // rel. error vs direct summation: p=6 theta=0.5 max 1.5e-3; p=6 theta=0.4
   // max 2.3e-4; p=7 theta=0.45 max 1.2e-4, median 2.4e-6.
+  // Joint sweep (session 9, engineer near): Table 5 torus, 50 midpoint steps,
+  // 1 thread, bench trace --repeat 2 (fastest run), CPU us per evaluation,
+  // interleaved rounds on a loaded machine (same config: +-10 %); field
+  // rel. error vs direct (max of the 320 samples along the lines):
+  //   theta  p  | 12,800: us (rounds)        err     | 51,200: us    err    | M2L/eval at 12,800
+  //   0.45   7  | 3.66 3.63 3.75 (3.39 4.13)  2.8e-5  | 2.77 3.21   4.0e-5   | 0.995
+  //   0.50   8  | 3.67 3.60 3.34 (3.41)       3.5e-5  |                      | 0.735
+  //   0.55   9  | 3.74 3.50 3.32 (3.48)       3.1e-5  | 2.80 3.22   3.5e-5   | 0.554
+  //   0.60  10  | 3.74 3.62 3.26 (3.23 3.66)  3.3e-5  | 3.01 3.03   2.8e-5   | 0.416
+  //   0.50 / 0.55 / 0.60 / 0.65 at p 7 / 8 / 9 / 10: 3.44 / 3.07 / 2.90 / 2.99 us,
+  //   but 8.2e-5 / 6.2e-5 / 6.6e-5 / 1.3e-4: over half the 1e-4 budget;
+  //   0.65 p 11 and 0.7 p 11-12: 3.5-3.6 us, 8.1e-5 .. 2.4e-4.
+  //   Leaf 24 / 48 at theta 0.6 p 10: 3.48 / 3.98; leaf 48 at 0.5 p 8: 3.62.
+  // In parentheses: single runs of earlier sweeps. 204,800 (no error
+  // sampling), one run each: 0.45/7 2.69, 0.55/9 2.51, 0.60/10 2.94 us,
+  // M2L/eval 0.90 / 0.49 / 0.38.
+  // At equal error the cost is flat within the noise: the shorter near list
+  // of a larger theta is paid back by the higher order's M2L and L2P (M2Ls
+  // per evaluation fall 2.4x from 0.45/7 to 0.6/10, each costs several times
+  // more: 286 coefficients at p 10, 120 at p 7). So the defaults stay p=7
+  // theta=0.45, the lowest error at the same cost.
   int fmm_order = 7;
   double fmm_theta = 0.45;
   // Source triangles per FMM leaf: the tracer pays the near field at every
