@@ -24,20 +24,14 @@ struct TracerField::NearTriangle {
   tracer::TriangleFrame frame;
   double area = 0;
 };
-// Apart from the frame (which only closed-form candidates and the nearest
-// search read), so that a candidate in the float-rule bands (five in six of
-// a point's candidates next to a surface) touches this record only: two
-// adjacent cache lines, which the L2 prefetcher fetches as a pair (it took
-// three to four scattered lines: this record, the charge, the frame's
-// vertices).
-struct alignas(128) TracerField::NearTest {
+// Apart from the frame (which only evaluated candidates read), so that
+// classifying a point's candidates touches one cache line per triangle.
+struct TracerField::NearTest {
   Vec3 centroid;
   double radius = 0;
   double near2 = 0;               // squared radius of SourceGeometry::is_near
   double whole2 = 0, split2 = 0;  // squared radii of the bands above (kWholeFactor, kSplitFactor)
-  float q = 0;                    // the charge, for the float rules
   bool has_area = false;
-  float v[9] = {0, 0, 0, 0, 0, 0, 0, 0, 0};  // vertices relative to the centroid, for the float rules
 };
 
 TracerField::~TracerField() = default;
@@ -47,15 +41,17 @@ TracerField::~TracerField() = default;
 struct TracerField::RuleBatch {
   tracer::RuleTriangles mid, split;  // the degree-6 rule; the same on the four midpoint children
 
-  // c: the triangle's centroid relative to the evaluation point; t.v its
-  // vertices relative to the centroid (float: relative to the triangle's size).
-  void add(bool whole, Vec3 c, const NearTest& t, double* e) {
-    const float cf[3] = {static_cast<float>(c.x), static_cast<float>(c.y), static_cast<float>(c.z)};
-    float v[9];
-    for (int d = 0; d < 9; ++d) v[d] = cf[d % 3] + t.v[d];
-    tracer::RuleTriangles& r = whole ? mid : split;
-    if (r.add(v, v + 3, v + 6, t.q))
-      tracer::rule_field_batch(whole ? tracer::degree6_rule() : tracer::degree6_children_rule(), r, e);
+  void add(bool whole, Vec3 x, const tracer::TriangleFrame& f, double q, double* e) {
+    float v[3][3];
+    for (int k = 0; k < 3; ++k) {
+      const Vec3 d = f.v[k] - x;
+      v[k][0] = static_cast<float>(d.x);
+      v[k][1] = static_cast<float>(d.y);
+      v[k][2] = static_cast<float>(d.z);
+    }
+    tracer::RuleTriangles& t = whole ? mid : split;
+    if (t.add(v[0], v[1], v[2], static_cast<float>(q)))
+      tracer::rule_field_batch(whole ? tracer::degree6_rule() : tracer::degree6_children_rule(), t, e);
   }
   void flush(double* e) {
     tracer::rule_field_batch(tracer::degree6_rule(), mid, e);
@@ -134,9 +130,6 @@ TracerField::TracerField(const Fmm& fmm, const std::vector<double>& charges, int
     t.centroid = src.centroid[j];
     t.radius = src.radius[j];
     t.has_area = src.area[j] > 0;
-    t.q = static_cast<float>(charges[j]);
-    const Vec3 corner[3] = {src.a[j], src.b[j], src.c[j]};
-    for (int v = 0; v < 3; ++v) to_float(corner[v] - t.centroid, &t.v[3 * v]);
     // Computed as SourceGeometry::is_near does, so the tests agree bit for bit.
     const double rn = src.near_factor * src.radius[j];
     t.near2 = rn * rn;
@@ -446,8 +439,8 @@ void TracerField::near_candidates(const int* ks, int n, Vec3 x, double* e, doubl
   for (int c = 0; c < n; ++c) {
     const int k = ks[c];
     const NearTest& t = near_test_[k];
-    const Vec3 g = t.centroid - x;
-    const double d2 = norm2(g);
+    const double q = tri_charge_[k];
+    const double d2 = norm2(x - t.centroid);
     if (!(d2 < t.near2)) {
       // A float candidate the double test rejects: its own quadrature points.
       const size_t p0 = static_cast<size_t>(k) * m_;
@@ -458,11 +451,11 @@ void TracerField::near_candidates(const int* ks, int n, Vec3 x, double* e, doubl
       continue;
     }
     if (!t.has_area) continue;
+    const NearTriangle& tri = near_tris_[k];
     if (!(d2 < t.split2)) {
-      batch.add(!(d2 < t.whole2), g, t, e);
+      batch.add(!(d2 < t.whole2), x, tri.frame, q, e);
     } else {
-      const NearTriangle& tri = near_tris_[k];
-      const Vec3 f = (tri_charge_[k] / tri.area) * tracer::closed_form_field(tri.frame, x);
+      const Vec3 f = (q / tri.area) * tracer::closed_form_field(tri.frame, x);
       e[0] += f.x;
       e[1] += f.y;
       e[2] += f.z;
