@@ -5,7 +5,6 @@
 // that of h (0 in the plane).
 #include "tracer_closed_form_batch.h"
 
-#include <cstdlib>
 
 #include "tracer_vmath.h"
 
@@ -15,8 +14,6 @@ namespace {
 
 bool use_vector() {
 #ifdef SOUPUV_TRACER_VMATH
-  // TEMPORARY A/B switch (removed before the final commit).
-  if (const char* s = std::getenv("SOUPUV_CLOSED_SCALAR"); s && *s == '1') return false;
   return vmath_supported();
 #else
   return false;
@@ -28,17 +25,31 @@ __attribute__((target("avx2,fma"))) inline __m256d dot(const __m256d a[3], const
   return _mm256_fmadd_pd(a[0], b[0], _mm256_fmadd_pd(a[1], b[1], _mm256_mul_pd(a[2], b[2])));
 }
 
-__attribute__((target("avx2,fma"))) void load3(const double (*p)[ClosedFormBatch::kLanes], __m256d v[3]) {
-  for (int c = 0; c < 3; ++c) v[c] = _mm256_load_pd(p[c]);
+// One double per lane, `get` of that lane's frame.
+template <class Get>
+__attribute__((target("avx2,fma"))) inline __m256d lanes(const TriangleFrame* const f[4], Get get) {
+  return _mm256_setr_pd(get(*f[0]), get(*f[1]), get(*f[2]), get(*f[3]));
+}
+// The same for a Vec3 `get`, one vector per component.
+template <class Get>
+__attribute__((target("avx2,fma"))) inline void lanes3(const TriangleFrame* const f[4], Get get, __m256d v[3]) {
+  v[0] = lanes(f, [&](const TriangleFrame& t) { return get(t).x; });
+  v[1] = lanes(f, [&](const TriangleFrame& t) { return get(t).y; });
+  v[2] = lanes(f, [&](const TriangleFrame& t) { return get(t).z; });
 }
 
-__attribute__((target("avx2,fma"))) void evaluate_avx2(const ClosedFormBatch::Lanes& L, int count, double* e) {
+__attribute__((target("avx2,fma"))) void evaluate_avx2(const TriangleFrame* const f[4], const Vec3* xs,
+                                                       const double* densities, int count, double* e) {
+  const __m256d x[3] = {_mm256_setr_pd(xs[0].x, xs[1].x, xs[2].x, xs[3].x),
+                        _mm256_setr_pd(xs[0].y, xs[1].y, xs[2].y, xs[3].y),
+                        _mm256_setr_pd(xs[0].z, xs[1].z, xs[2].z, xs[3].z)};
   __m256d r[3][3], R[3], n[3];
   for (int k = 0; k < 3; ++k) {
-    load3(L.r[k], r[k]);
+    lanes3(f, [k](const TriangleFrame& t) { return t.v[k]; }, r[k]);
+    for (int c = 0; c < 3; ++c) r[k][c] = _mm256_sub_pd(r[k][c], x[c]);
     R[k] = _mm256_sqrt_pd(dot(r[k], r[k]));
   }
-  load3(L.n, n);
+  lanes3(f, [](const TriangleFrame& t) { return t.n; }, n);
   const __m256d zero = _mm256_setzero_pd();
   // h exactly as closed_form_field rounds it (no FMA; this file is built
   // with -ffp-contract=off): its h == 0 decides the in-plane principal value
@@ -51,10 +62,10 @@ __attribute__((target("avx2,fma"))) void evaluate_avx2(const ClosedFormBatch::La
   for (int i = 0; i < 3; ++i) {
     const int j = (i + 1) % 3;
     __m256d l[3], m[3];
-    load3(L.l[i], l);
-    load3(L.m[i], m);
+    lanes3(f, [i](const TriangleFrame& t) { return t.l[i]; }, l);
+    lanes3(f, [i](const TriangleFrame& t) { return t.m[i]; }, m);
     const __m256d sm = dot(r[i], l), sp = dot(r[j], l), t0 = dot(r[i], m);
-    const __m256d len = _mm256_load_pd(L.len[i]);
+    const __m256d len = lanes(f, [i](const TriangleFrame& t) { return t.len[i]; });
     // Case sm < 0 < sp (the foot of x inside the edge): both factors sum
     // positive terms; the squared distance to the edge's line floored.
     const __m256d plus_j = _mm256_add_pd(R[j], sp), minus_i = _mm256_sub_pd(R[i], sm);
@@ -66,8 +77,8 @@ __attribute__((target("avx2,fma"))) void evaluate_avx2(const ClosedFormBatch::La
     const __m256d after = _mm256_cmp_pd(sm, zero, _CMP_GE_OQ);  // sm >= 0: the edge lies after x (checked first)
     num = _mm256_blendv_pd(num, plus_j, after);
     den = _mm256_blendv_pd(den, _mm256_add_pd(R[i], sm), after);
-    const __m256d f = vlog(_mm256_div_pd(num, den));
-    for (int c = 0; c < 3; ++c) s[c] = _mm256_fmadd_pd(f, m[c], s[c]);
+    const __m256d log_term = vlog_ratio(num, den);
+    for (int c = 0; c < 3; ++c) s[c] = _mm256_fmadd_pd(log_term, m[c], s[c]);
   }
   // Solid angle: |det[r0 r1 r2]| over R0 R1 R2 + (r0.r1) R2 + (r0.r2) R1 + (r1.r2) R0.
   const __m256d c12[3] = {
@@ -85,10 +96,10 @@ __attribute__((target("avx2,fma"))) void evaluate_avx2(const ClosedFormBatch::La
   // Signed by the side of the plane; 0 in it (h == 0), whatever atan2 gave.
   omega = _mm256_and_pd(omega, _mm256_cmp_pd(h, zero, _CMP_NEQ_UQ));
   omega = _mm256_xor_pd(omega, _mm256_and_pd(h, sign));
-  // Lanes past count hold an earlier triangle: masked out (NaN included).
+  // Lanes past count repeat lane 0: masked out (NaN included).
   const __m256d valid = _mm256_castsi256_pd(
       _mm256_cmpgt_epi64(_mm256_set1_epi64x(count), _mm256_setr_epi64x(0, 1, 2, 3)));
-  const __m256d density = _mm256_load_pd(L.density);
+  const __m256d density = _mm256_loadu_pd(densities);
   alignas(32) double out[4];
   for (int c = 0; c < 3; ++c) {
     const __m256d g = _mm256_and_pd(_mm256_mul_pd(density, _mm256_fmadd_pd(omega, n[c], s[c])), valid);
@@ -102,26 +113,14 @@ __attribute__((target("avx2,fma"))) void evaluate_avx2(const ClosedFormBatch::La
 
 const bool ClosedFormBatch::vector_ = use_vector();
 
-ClosedFormBatch::ClosedFormBatch() {
-  // Lanes a partial pass leaves unused are evaluated and masked: start them
-  // as a harmless triangle (unit right triangle one unit below x) rather
-  // than zeros, whose 0/0 would take the log's slow path.
-  const TriangleFrame f = triangle_frame({0, 0, -1}, {1, 0, -1}, {0, 1, -1});
-  for (int l = 0; l < kLanes; ++l) {
-    for (int k = 0; k < 3; ++k) {
-      set(&lanes_.r[k][0][0], f.v[k], l);
-      set(&lanes_.l[k][0][0], f.l[k], l);
-      set(&lanes_.m[k][0][0], f.m[k], l);
-      lanes_.len[k][l] = f.len[k];
-    }
-    set(&lanes_.n[0][0], f.n, l);
-    lanes_.density[l] = 0;
-  }
-}
-
 void ClosedFormBatch::evaluate(double* e) {
 #ifdef SOUPUV_TRACER_VMATH
-  evaluate_avx2(lanes_, count_, e);
+  // Lanes past count_ repeat lane 0 (their fields are masked out).
+  for (int l = count_; l < kLanes; ++l) {
+    frame_[l] = frame_[0];
+    x_[l] = x_[0];
+  }
+  evaluate_avx2(frame_, x_, density_, count_, e);
 #else
   (void)e;
 #endif

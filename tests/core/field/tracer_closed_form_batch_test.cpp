@@ -98,17 +98,22 @@ TEST(TracerClosedFormBatch, SumsOfPartialAndFullPasses) {
   std::mt19937 rng(6);
   std::uniform_real_distribution<double> u(-1, 1);
   double worst = 0;
-  tracer::ClosedFormBatch batch;  // reused: earlier points' triangles stay in unused lanes
+  tracer::ClosedFormBatch batch;  // reused across points, as the tracer does
   for (int it = 0; it < 3000; ++it) {
     const int count = 1 + it % 9;
     const Case base = random_case(rng, it % kModes);
     double e[3] = {0, 0, 0};
     Vec3 ref{0, 0, 0};
     double scale = 0;
+    // Triangles around the same point: the base one and random ones nearby
+    // (the batch keeps pointers to the frames until the flush).
+    std::vector<tracer::TriangleFrame> frames;
     for (int t = 0; t < count; ++t) {
-      // Triangles around the same point: the base one and random ones nearby.
       const Vec3 shift = t == 0 ? Vec3{0, 0, 0} : Vec3{u(rng), u(rng), u(rng)};
-      const tracer::TriangleFrame f = tracer::triangle_frame(base.a + shift, base.b + shift, base.c + shift);
+      frames.push_back(tracer::triangle_frame(base.a + shift, base.b + shift, base.c + shift));
+    }
+    for (int t = 0; t < count; ++t) {
+      const tracer::TriangleFrame& f = frames[t];
       const double density = 1 + t;
       batch.add(f, density, base.x, e);
       const Vec3 g = density * tracer::closed_form_field(f, base.x);
@@ -125,7 +130,8 @@ TEST(TracerClosedFormBatch, SumsOfPartialAndFullPasses) {
 TEST(TracerClosedFormBatch, DegenerateTriangleAddsNothing) {
   tracer::ClosedFormBatch batch;
   double e[3] = {0, 0, 0};
-  batch.add(tracer::triangle_frame({0, 0, 0}, {1, 0, 0}, {2, 0, 0}), 1.0, {0.5, 0.5, 0.5}, e);
+  const tracer::TriangleFrame flat = tracer::triangle_frame({0, 0, 0}, {1, 0, 0}, {2, 0, 0});
+  batch.add(flat, 1.0, {0.5, 0.5, 0.5}, e);
   batch.flush(e);
   EXPECT_EQ(e[0], 0.0);
   EXPECT_EQ(e[1], 0.0);

@@ -25,6 +25,14 @@ __attribute__((target("avx2,fma"))) std::vector<double> vlog_all(const std::vect
   return out;
 }
 
+__attribute__((target("avx2,fma"))) std::vector<double> vlog_ratio_all(const std::vector<double>& n,
+                                                                        const std::vector<double>& d) {
+  std::vector<double> out(n.size());
+  for (size_t i = 0; i + 4 <= n.size(); i += 4)
+    _mm256_storeu_pd(&out[i], tracer::vlog_ratio(_mm256_loadu_pd(&n[i]), _mm256_loadu_pd(&d[i])));
+  return out;
+}
+
 __attribute__((target("avx2,fma"))) std::vector<double> vatan2_all(const std::vector<double>& y,
                                                                     const std::vector<double>& x) {
   std::vector<double> out(y.size());
@@ -81,6 +89,45 @@ TEST(TracerVmath, LogEdgeCasesAreStd) {
     if (std::isnan(ref)) EXPECT_TRUE(std::isnan(got[i])) << a[i];
     else EXPECT_EQ(got[i], ref) << a[i];
   }
+}
+
+// log(n / d) against the long double log of the long double quotient:
+// next to n = d std::log(n / d) itself loses digits (n / d is rounded first),
+// vlog_ratio does not.
+TEST(TracerVmath, LogRatioMatchesLongDouble) {
+  if (!tracer::vmath_supported()) GTEST_SKIP() << "no AVX2+FMA";
+  std::mt19937_64 rng(13);
+  std::uniform_real_distribution<double> u(0, 1), expo(-150, 150), near(-15, -1);
+  std::vector<double> n, d;
+  for (int i = 0; i < 200000; ++i) {
+    n.push_back(std::pow(10.0, expo(rng)) * (1 + u(rng)));
+    d.push_back(std::pow(10.0, expo(rng)) * (1 + u(rng)));
+  }
+  for (int i = 0; i < 200000; ++i) {  // ratios next to 1, and next to the sqrt(2) splits
+    const double x = std::pow(10.0, 20 * u(rng) - 10) * (1 + u(rng));
+    const double r = (i % 3 == 0 ? 1 : i % 3 == 1 ? M_SQRT2 : M_SQRT1_2) * (1 + (i % 2 ? 1 : -1) * std::pow(10.0, near(rng)));
+    n.push_back(x * r);
+    d.push_back(x);
+  }
+  const std::vector<double> got = vlog_ratio_all(n, d);
+  double worst = 0;
+  for (size_t i = 0; i < n.size(); ++i) {
+    // Next to n = d: n - d is exact, so log1p of the long double (n - d) / d.
+    const long double ln = n[i], ld = d[i];
+    const long double ref = (n[i] > 0.5 * d[i] && n[i] < 2 * d[i]) ? std::log1p((ln - ld) / ld) : std::log(ln / ld);
+    if (ref == 0) {
+      EXPECT_EQ(got[i], 0.0);
+      continue;
+    }
+    worst = std::max(worst, static_cast<double>(std::fabs((got[i] - ref) / ref)));
+  }
+  std::printf("vlog_ratio vs long double log(n / d), max rel difference %.2e\n", worst);
+  EXPECT_LT(worst, 1e-15);
+  const double inf = std::numeric_limits<double>::infinity();
+  const std::vector<double> en = {1.0, 0.0, 2.0, 1e-310}, ed = {0.0, 1.0, 1e-320, 1.0};
+  const std::vector<double> eg = vlog_ratio_all(en, ed);
+  for (size_t i = 0; i < en.size(); ++i) EXPECT_EQ(eg[i], std::log(en[i] / ed[i])) << en[i] << " / " << ed[i];
+  EXPECT_EQ(eg[0], inf);
 }
 
 TEST(TracerVmath, Atan2MatchesStd) {
