@@ -13,8 +13,10 @@
 //
 // Why: the closed form is three logs, one atan2 and three square roots per
 // triangle, ~12 triangles per point next to the surface; glibc's scalar log
-// and atan2 were most of its cost. Without AVX2+FMA each add calls
-// closed_form_field at once.
+// and atan2 were most of its cost. Here ~30 ns per triangle against ~80 ns
+// scalar; the trace's CPU per evaluation fell 3-13 % (session 10, 1 thread,
+// A/B in one binary: 12,800 -12.7 %, 51,200 -3.3 %, 204,800 -10.6 %).
+// Without AVX2+FMA each add calls closed_form_field at once.
 #pragma once
 
 #include "soupuv/vec.h"
