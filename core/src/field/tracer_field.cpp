@@ -12,6 +12,7 @@
 #include "soupuv/field/sources.h"
 #include "soupuv/field/triangle_integrals.h"
 #include "tracer_closed_form.h"
+#include "tracer_closed_form_batch.h"
 #include "tracer_kernels.h"
 #include "tracer_l2p.h"
 #include "tracer_m2l.h"
@@ -37,9 +38,11 @@ struct TracerField::NearTest {
 TracerField::~TracerField() = default;
 
 // The near triangles of one point that take a float rule, collected so the
-// kernel sums them eight at a time (tracer::rule_field_batch).
+// kernel sums them eight at a time (tracer::rule_field_batch), and those that
+// take the closed form, four at a time.
 struct TracerField::RuleBatch {
   tracer::RuleTriangles mid, split;  // the degree-6 rule; the same on the four midpoint children
+  tracer::ClosedFormBatch closed;
 
   void add(bool whole, Vec3 x, const tracer::TriangleFrame& f, double q, double* e) {
     float v[3][3];
@@ -56,6 +59,7 @@ struct TracerField::RuleBatch {
   void flush(double* e) {
     tracer::rule_field_batch(tracer::degree6_rule(), mid, e);
     tracer::rule_field_batch(tracer::degree6_children_rule(), split, e);
+    closed.flush(e);
   }
 };
 
@@ -455,10 +459,7 @@ void TracerField::near_candidates(const int* ks, int n, Vec3 x, double* e, doubl
     if (!(d2 < t.split2)) {
       batch.add(!(d2 < t.whole2), x, tri.frame, q, e);
     } else {
-      const Vec3 f = (q / tri.area) * tracer::closed_form_field(tri.frame, x);
-      e[0] += f.x;
-      e[1] += f.y;
-      e[2] += f.z;
+      batch.closed.add(tri.frame, q / tri.area, x, e);
     }
     if (!nearest) continue;
     near.push_back({k, d2});
