@@ -96,7 +96,8 @@ void to_float(Vec3 v, float* f) {
 //    midpoint children: a child has half the radius and its centroid lies
 //    within r/2 of the parent's, so every child is at least 2.1 of its own
 //    radii away (worst 1.64e-5 at 1.55 radii);
-//  - the closed form (six atan2, three logs) only below.
+//  - the closed form (three logs, one atan2; four triangles per AVX2 pass,
+//    tracer_closed_form_batch.h) only below.
 // Session 6 had 2.5 and 1.75 (worst 7.3e-6 and 3.4e-6). Near a surface the
 // candidates in a band grow with its area: ~22 % fewer closed forms and ~17 %
 // fewer 48-point children rules, each band's rest now 12 points.

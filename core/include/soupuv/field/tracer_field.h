@@ -25,7 +25,7 @@
 //    to the leaves' parent's centre, no padding between sibling leaves): the kernel adds the quadrature points of every
 //    triangle that is not near and flags the rest as candidates, which are
 //    re-checked in double and evaluated by the near rule: the closed
-//    form (double) only within 1.55 radii; from there to 2.25 radii the
+//    form (double, four triangles per AVX2 pass) only within 1.55 radii; from there to 2.25 radii the
 //    degree-6 rule on the triangle's four midpoint children (float); to 4
 //    radii the degree-6 rule. The model (sources.h) has the closed form to 2.5
 //    radii; the tracer's cheaper bands keep every triangle within the model's
