@@ -5,7 +5,6 @@
 // that of h (0 in the plane).
 #include "tracer_closed_form_batch.h"
 
-
 #include "tracer_vmath.h"
 
 namespace soupuv::field::tracer {

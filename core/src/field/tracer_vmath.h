@@ -54,10 +54,6 @@ inline const AtanTable kAtan = make_atan_table();
 constexpr double kLn2Hi = 0x1.62e42feep-1;
 constexpr double kLn2Lo = static_cast<double>(0.693147180559945309417232121458176568L - 0x1.62e42feep-1L);
 
-}  // namespace vmath_detail
-
-namespace vmath_detail {
-
 // a = 2^e m with m in [1, 2), for positive normal a (other lanes: garbage).
 __attribute__((target("avx2,fma"))) inline void split_exponent(__m256d a, __m256d& m, __m256d& e) {
   const __m256i bits = _mm256_castpd_si256(a);
