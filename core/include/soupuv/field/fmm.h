@@ -81,6 +81,10 @@ class Fmm {
   // keeps them as a precomputed sparse matrix).
   double far_potential(int leaf, Vec3 x) const;
 
+  // True when the closed segment ab meets a source triangle (coplanar
+  // segments do not count; see segment_intersects_triangle).
+  bool segment_crosses(Vec3 a, Vec3 b) const;
+
   // Source triangles (input indices) a target leaf takes directly.
   std::vector<uint32_t> near_source_triangles(int leaf) const;
 
