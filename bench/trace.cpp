@@ -16,7 +16,7 @@
 // tracer's FMM order is loosened, against a tight reference.
 //
 // Flags: --order P --theta T --leaf K (tracer FMM), --near-step-fraction F
-// --max-turn T (the adaptive step, TraceOptions), --min-triangles N,
+// --max-turn T --max-step-growth G (the adaptive step, TraceOptions), --min-triangles N,
 // --max-triangles N, --direct-max N, --direct-budget PAIRS, --seeds corners,
 // --no-study, --study-only, --study-triangles N, --repeat R (FMM rows: the
 // fastest of R runs; first_run_seconds / first_run_cpu_seconds: the first),
@@ -371,6 +371,8 @@ void run_table5(const Flags& f, const bench::Args& args) {
                  {"error_samples", err.samples}, {"error_samples_near_fraction", err.near_fraction},
                  {"fmm_order", o.fmm_order}, {"fmm_theta", o.fmm_theta}, {"fmm_leaf_size", o.fmm_leaf_size},
                  {"near_step_fraction", o.near_step_fraction}, {"max_turn_per_step", o.max_turn_per_step},
+                 {"max_step_growth", o.max_step_growth}, {"grown_steps", st.grown_steps},
+                 {"grown_steps_redone", st.grown_steps_redone},
                  {"cpu_per_evaluation_us", 1e6 * cpu_fmm / double(st.evaluations)},
                  {"expansions", st.expansions}, {"m2l_operations", st.m2l_operations},
                  {"m2l_per_evaluation", double(st.m2l_operations) / double(st.evaluations)},
@@ -521,6 +523,7 @@ int run_trace(const bench::Args& args) {
     else if (a == "--theta" && has) f.trace.fmm_theta = std::stod(args.rest[++i]);
     else if (a == "--leaf" && has) f.trace.fmm_leaf_size = std::stoi(args.rest[++i]);
     else if (a == "--near-step-fraction" && has) f.trace.near_step_fraction = std::stod(args.rest[++i]);
+    else if (a == "--max-step-growth" && has) f.trace.max_step_growth = std::stod(args.rest[++i]);
     else if (a == "--max-turn" && has) f.trace.max_turn_per_step = std::stod(args.rest[++i]);
     else if (a == "--seeds" && has) f.corners = args.rest[++i] == "corners";
     else if (a == "--repeat" && has) f.repeat = std::max(1, std::stoi(args.rest[++i]));

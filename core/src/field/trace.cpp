@@ -6,7 +6,10 @@
 // midpoint method. The step shrinks near the surface to a fraction (0.5 ..
 // near_step_fraction < 1, larger where the line runs straight) of the
 // distance to the nearest near-rule triangle (never below eps), so a line
-// cannot jump through a nearby face; lines stop outside the stop sphere (or stop_box), at the step
+// cannot jump through a nearby face. Where the line runs straight the step
+// may instead grow geometrically (max_step_growth); such a step is taken only
+// if its segment meets no soup triangle, else it is redone at the distance
+// rule. Lines stop outside the stop sphere (or stop_box), at the step
 // limit, where |E| vanishes, or when trapped: crawling along the surface at
 // the step floor for options.trapped_steps steps in a row.
 //
@@ -168,6 +171,14 @@ class BatchField {
     }
   }
 
+  // True when segment ab meets a soup triangle.
+  bool segment_crosses(Vec3 a, Vec3 b) const {
+    if (fmm_) return fmm_->segment_crosses(a, b);
+    for (size_t j = 0; j < src_.size(); ++j)
+      if (segment_intersects_triangle(a, b, src_.a[j], src_.b[j], src_.c[j])) return true;
+    return false;
+  }
+
   // Local expansions computed and M2L operations spent so far (0 for direct).
   size_t expansions() const { return tracer_ ? tracer_->expansions() : 0; }
   size_t m2l_operations() const { return tracer_ ? tracer_->m2l_operations() : 0; }
@@ -213,6 +224,8 @@ FieldLines trace_field_lines(const ChargeResult& charges, const std::vector<Trac
   // A step of at least the nearest triangle's distance could reach it.
   if (!(options.near_step_fraction > 0 && options.near_step_fraction < 1))
     throw Error(ErrorCode::invalid_input, "trace: near_step_fraction must lie in (0, 1)");
+  if (!(options.max_step_growth == 0 || (options.max_step_growth >= 1 && options.max_step_growth <= 1e3)))
+    throw Error(ErrorCode::invalid_input, "trace: max_step_growth must be 0 or lie in [1, 1000]");
   if (seeds.size() >= (size_t{1} << 32))
     throw Error(ErrorCode::limit_exceeded, "trace: too many seeds");
   SourceGeometry src = make_sources(charges.positions, charges.triangles, charges.quadrature_degree);
@@ -296,22 +309,31 @@ FieldLines trace_field_lines(const ChargeResult& charges, const std::vector<Trac
   std::vector<double> last_h(n, 0.0);
   const double max_fraction = options.near_step_fraction;
   const double min_fraction = std::min(0.5, max_fraction);
+  const double growth = options.max_step_growth;
   // The near-surface step of line s at a point with field e and nearest
-  // near-rule triangle at distance d (see TraceOptions::near_step_fraction):
-  // turn per step ~ curvature * h, the curvature from the change of E's
-  // direction over the line's previous step.
+  // near-rule triangle at distance d (see TraceOptions::near_step_fraction
+  // and max_step_growth): turn per step ~ curvature * h, the curvature from
+  // the change of E's direction over the line's previous step.
   auto near_step = [&](long s, Vec3 e, double d) {
     if (!(last_h[s] > 0) || !(d < std::numeric_limits<double>::infinity())) return min_fraction * d;
     // Within 2 eps the step stays at its floor (the trapped rule,
     // TraceOptions::trapped_steps, counts crawling steps there); the larger
-    // fraction ramps in up to 4 eps: a step rule that jumps would let the
+    // reach ramps in up to 4 eps: a step rule that jumps would let the
     // last digits of E pick between two step lengths.
     const double ramp = std::clamp((d - 2 * eps) / (2 * eps), 0.0, 1.0);
-    const double upper = min_fraction + ramp * (max_fraction - min_fraction);
+    double reach = max_fraction * d;
+    if (growth > 0) reach = std::max(reach, std::min(step, growth * last_h[s]));
+    const double upper = min_fraction * d + ramp * (reach - min_fraction * d);
     const double curvature = norm(e / norm(e) - last_dir[s]) / last_h[s];
-    const double h = curvature > 0 ? options.max_turn_per_step / curvature : upper * d;
-    return std::clamp(h, min_fraction * d, upper * d);
+    const double h = curvature > 0 ? options.max_turn_per_step / curvature : upper;
+    return std::clamp(h, min_fraction * d, upper);
   };
+  // Steps longer than max_fraction * d (grown steps) are checked against the
+  // soup once their direction is known; `safe_h` is the length they fall
+  // back to (the distance rule's bound), 0 for steps that need no check.
+  std::vector<double> safe_h;
+  std::vector<long> redo;
+  size_t grown_steps = 0, grown_redone = 0;
   for (int k = 0; k < options.max_steps && !active.empty(); ++k) {
     progress.update("trace", 0.05 + 0.9 * k / double(options.max_steps));
     const size_t na = active.size();
@@ -331,6 +353,7 @@ FieldLines trace_field_lines(const ChargeResult& charges, const std::vector<Trac
     // Step lengths; a line whose field vanished stops here (h = 0 marks it).
     // Buffers are sized, not cleared, here: every loop writes each entry.
     h.resize(na);
+    if (growth > 0) safe_h.assign(na, 0.0);
 #pragma omp parallel for num_threads(step_threads) schedule(static)
     for (long a = 0; a < nal; ++a) {
       h[a] = 0;
@@ -340,6 +363,10 @@ FieldLines trace_field_lines(const ChargeResult& charges, const std::vector<Trac
         continue;
       }
       h[a] = options.adaptive_step ? std::min(step, std::max(eps, near_step(active[a], E[a], nearest[a]))) : step;
+      if (growth > 0 && options.adaptive_step) {
+        const double bound = std::min(step, std::max(eps, max_fraction * nearest[a]));
+        safe_h[a] = h[a] > bound ? bound : 0.0;
+      }
       if (!detect_trapped) continue;
       const long s = active[a];
       crawl[s] = nearest[a] < 2 * eps ? crawl[s] + 1 : 0;
@@ -369,6 +396,46 @@ FieldLines trace_field_lines(const ChargeResult& charges, const std::vector<Trac
       }
     }
     const std::vector<Vec3>& Emove = midpoint ? Ep : E;
+    // Grown steps whose segment meets the soup are redone at the distance
+    // rule's length (the midpoint's field evaluated again for them).
+    if (growth > 0 && options.adaptive_step) {
+      redo.clear();
+      size_t grown = 0;
+#pragma omp parallel for num_threads(step_threads) schedule(dynamic, 256) reduction(+ : grown)
+      for (long a = 0; a < nal; ++a) {
+        if (!(h[a] > 0) || !(safe_h[a] > 0)) continue;
+        ++grown;
+        const Vec3 p0 = pos[active[a]];
+        if (!field.segment_crosses(p0, p0 + (h[a] / norm(Emove[a])) * Emove[a])) continue;
+#pragma omp critical(trace_redo)
+        redo.push_back(a);
+      }
+      grown_steps += grown;
+      grown_redone += redo.size();
+      if (!redo.empty()) {
+        std::sort(redo.begin(), redo.end());
+        for (long a : redo) h[a] = safe_h[a];
+        if (midpoint) {
+          std::vector<Vec3> Xr(redo.size()), Er;
+          std::vector<int> leaf_r(redo.size());
+          for (size_t r = 0; r < redo.size(); ++r) {
+            const long a = redo[r];
+            Xr[r] = pos[active[a]] + (0.5 * h[a] / norm(E[a])) * E[a];
+            leaf_r[r] = leaf[a];
+          }
+          field.evaluate(Xr, leaf_r, Er, nullptr);
+          evaluations += redo.size();
+          for (size_t r = 0; r < redo.size(); ++r) {
+            const long a = redo[r];
+            Ep[a] = Er[r];
+            if (!(norm(Ep[a]) > stalled_field)) {
+              ends[active[a]] = LineEnd::stalled;
+              h[a] = 0;
+            }
+          }
+        }
+      }
+    }
     // Move the lines (in parallel), then keep the active ones in order (serial, cheap).
     keep.resize(na);
     size_t stepped = 0;
@@ -415,6 +482,8 @@ FieldLines trace_field_lines(const ChargeResult& charges, const std::vector<Trac
     stats->steps = steps_total;
     stats->expansions = field.expansions();
     stats->m2l_operations = field.m2l_operations();
+    stats->grown_steps = grown_steps;
+    stats->grown_steps_redone = grown_redone;
     stats->escaped = stats->step_limit = stats->stalled = stats->trapped = 0;
     for (LineEnd e : out.ends) {
       if (e == LineEnd::escaped) ++stats->escaped;
