@@ -46,6 +46,7 @@ std::string trace_params(const FieldBranchOptions& b, const field::TraceOptions&
     << o.stop_box.lo.y << "," << o.stop_box.lo.z << "," << o.stop_box.hi.x << "," << o.stop_box.hi.y
     << "," << o.stop_box.hi.z << " p=" << o.fmm_order
     << " theta=" << o.fmm_theta << " keep=" << o.keep_points << " adaptive=" << o.adaptive_step
+    << " near=" << o.near_step_fraction << " turn=" << o.max_turn_per_step << " growth=" << o.max_step_growth
     << " direct=" << o.direct << " leaf=" << o.fmm_leaf_size << " trapped=" << o.trapped_steps << " probes=" << b.trace_cut_probes << " orient=" << b.orient_sides << " share=" << b.share_lines
     << " weld=" << b.weld_tolerance << " edge=" << b.weld_edge_fraction
     << " seed_edges=" << b.seed_edge_weld_tolerance << " seed_fraction=" << b.seed_edge_fraction;
