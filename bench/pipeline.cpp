@@ -200,6 +200,8 @@ void apply_switches(const bench::Args& args, MapOptions& o) {
     if (args.rest[i] == "--seed-weld-corners") o.seed_weld_by_edges = false;
     if (args.rest[i] == "--no-reweld") o.uv_reweld = false;
     if (args.rest[i] == "--no-island-relax") o.island_relax = false;
+    if (args.rest[i] == "--max-step-growth" && i + 1 < args.rest.size())
+      o.trace.max_step_growth = std::stod(args.rest[i + 1]);
     if (args.rest[i] == "--island-max-triangles" && i + 1 < args.rest.size())
       o.island_relax_max_triangles = size_t(std::stoul(args.rest[i + 1]));
     if (args.rest[i] == "--no-grow-while-bad") o.repair.grow_while_bad = false;

@@ -50,31 +50,6 @@ using namespace soupuv::field;
 
 namespace {
 
-// One seed per unique mesh vertex, along its area-weighted normal (side 0:
-// the tracer picks the outer side). `corner` names the vertex's first corner.
-std::vector<TraceSeed> vertex_seeds(const TriMesh& mesh) {
-  std::vector<TraceSeed> seeds(mesh.vertices.size());
-  std::vector<bool> seen(mesh.vertices.size(), false);
-  for (size_t t = 0; t < mesh.faces.size(); ++t) {
-    const auto& f = mesh.faces[t];
-    Vec3 n = cross(mesh.vertices[f[1]] - mesh.vertices[f[0]], mesh.vertices[f[2]] - mesh.vertices[f[0]]);
-    for (int k = 0; k < 3; ++k) {
-      TraceSeed& s = seeds[f[k]];
-      if (!seen[f[k]]) {
-        seen[f[k]] = true;
-        s.position = mesh.vertices[f[k]];
-        s.normal = {0, 0, 0};
-        s.corner = static_cast<uint32_t>(t * 3 + k);
-      }
-      s.normal += n;
-    }
-  }
-  std::vector<TraceSeed> out;
-  for (size_t v = 0; v < seeds.size(); ++v)
-    if (seen[v]) out.push_back(seeds[v]);
-  return out;
-}
-
 // CPU seconds (user + sys) of this process so far: on a shared machine a
 // steadier measure than wall time for slopes and ratios.
 double cpu_seconds() {

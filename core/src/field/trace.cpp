@@ -49,6 +49,29 @@ std::vector<TraceSeed> corner_seeds(const Soup& soup) {
   return seeds;
 }
 
+std::vector<TraceSeed> vertex_seeds(const TriMesh& mesh) {
+  std::vector<TraceSeed> seeds(mesh.vertices.size());
+  std::vector<bool> used(mesh.vertices.size(), false);
+  for (size_t t = 0; t < mesh.faces.size(); ++t) {
+    const auto& f = mesh.faces[t];
+    const Vec3 n = cross(mesh.vertices[f[1]] - mesh.vertices[f[0]], mesh.vertices[f[2]] - mesh.vertices[f[0]]);
+    for (int k = 0; k < 3; ++k) {
+      TraceSeed& s = seeds[f[k]];
+      if (!used[f[k]]) {
+        used[f[k]] = true;
+        s.position = mesh.vertices[f[k]];
+        s.normal = {0, 0, 0};
+        s.corner = static_cast<uint32_t>(t * 3 + k);
+      }
+      s.normal += n;
+    }
+  }
+  std::vector<TraceSeed> out;
+  for (size_t v = 0; v < seeds.size(); ++v)
+    if (used[v]) out.push_back(seeds[v]);
+  return out;
+}
+
 namespace {
 
 using Clock = std::chrono::steady_clock;
@@ -309,7 +332,10 @@ FieldLines trace_field_lines(const ChargeResult& charges, const std::vector<Trac
   std::vector<double> last_h(n, 0.0);
   const double max_fraction = options.near_step_fraction;
   const double min_fraction = std::min(0.5, max_fraction);
-  const double growth = options.max_step_growth;
+  // Grown steps need the midpoint's field to be checked (below): with
+  // explicit Euler the distance rule alone applies.
+  const double growth = midpoint && options.adaptive_step ? options.max_step_growth : 0.0;
+  const bool grow = growth > 0;
   // The near-surface step of line s at a point with field e and nearest
   // near-rule triangle at distance d (see TraceOptions::near_step_fraction
   // and max_step_growth): turn per step ~ curvature * h, the curvature from
@@ -353,7 +379,7 @@ FieldLines trace_field_lines(const ChargeResult& charges, const std::vector<Trac
     // Step lengths; a line whose field vanished stops here (h = 0 marks it).
     // Buffers are sized, not cleared, here: every loop writes each entry.
     h.resize(na);
-    if (growth > 0) safe_h.assign(na, 0.0);
+    if (grow) safe_h.assign(na, 0.0);
 #pragma omp parallel for num_threads(step_threads) schedule(static)
     for (long a = 0; a < nal; ++a) {
       h[a] = 0;
@@ -363,7 +389,7 @@ FieldLines trace_field_lines(const ChargeResult& charges, const std::vector<Trac
         continue;
       }
       h[a] = options.adaptive_step ? std::min(step, std::max(eps, near_step(active[a], E[a], nearest[a]))) : step;
-      if (growth > 0 && options.adaptive_step) {
+      if (grow) {
         const double bound = std::min(step, std::max(eps, max_fraction * nearest[a]));
         safe_h[a] = h[a] > bound ? bound : 0.0;
       }
@@ -396,9 +422,12 @@ FieldLines trace_field_lines(const ChargeResult& charges, const std::vector<Trac
       }
     }
     const std::vector<Vec3>& Emove = midpoint ? Ep : E;
-    // Grown steps whose segment meets the soup are redone at the distance
-    // rule's length (the midpoint's field evaluated again for them).
-    if (growth > 0 && options.adaptive_step) {
+    // A grown step is redone at the distance rule's length (the midpoint's
+    // field evaluated again) when the field turned by more than the turn
+    // limit between its start and its midpoint (the curvature it was sized
+    // by was an estimate from the previous, shorter step), or when its
+    // segment meets the soup.
+    if (grow) {
       redo.clear();
       size_t grown = 0;
 #pragma omp parallel for num_threads(step_threads) schedule(dynamic, 256) reduction(+ : grown)
@@ -406,7 +435,10 @@ FieldLines trace_field_lines(const ChargeResult& charges, const std::vector<Trac
         if (!(h[a] > 0) || !(safe_h[a] > 0)) continue;
         ++grown;
         const Vec3 p0 = pos[active[a]];
-        if (!field.segment_crosses(p0, p0 + (h[a] / norm(Emove[a])) * Emove[a])) continue;
+        const double turn = norm(Ep[a] / norm(Ep[a]) - E[a] / norm(E[a]));
+        if (!(turn > options.max_turn_per_step) &&
+            !field.segment_crosses(p0, p0 + (h[a] / norm(Ep[a])) * Ep[a]))
+          continue;
 #pragma omp critical(trace_redo)
         redo.push_back(a);
       }
@@ -415,23 +447,21 @@ FieldLines trace_field_lines(const ChargeResult& charges, const std::vector<Trac
       if (!redo.empty()) {
         std::sort(redo.begin(), redo.end());
         for (long a : redo) h[a] = safe_h[a];
-        if (midpoint) {
-          std::vector<Vec3> Xr(redo.size()), Er;
-          std::vector<int> leaf_r(redo.size());
-          for (size_t r = 0; r < redo.size(); ++r) {
-            const long a = redo[r];
-            Xr[r] = pos[active[a]] + (0.5 * h[a] / norm(E[a])) * E[a];
-            leaf_r[r] = leaf[a];
-          }
-          field.evaluate(Xr, leaf_r, Er, nullptr);
-          evaluations += redo.size();
-          for (size_t r = 0; r < redo.size(); ++r) {
-            const long a = redo[r];
-            Ep[a] = Er[r];
-            if (!(norm(Ep[a]) > stalled_field)) {
-              ends[active[a]] = LineEnd::stalled;
-              h[a] = 0;
-            }
+        std::vector<Vec3> Xr(redo.size()), Er;
+        std::vector<int> leaf_r(redo.size());
+        for (size_t r = 0; r < redo.size(); ++r) {
+          const long a = redo[r];
+          Xr[r] = pos[active[a]] + (0.5 * h[a] / norm(E[a])) * E[a];
+          leaf_r[r] = leaf[a];
+        }
+        field.evaluate(Xr, leaf_r, Er, nullptr);
+        evaluations += redo.size();
+        for (size_t r = 0; r < redo.size(); ++r) {
+          const long a = redo[r];
+          Ep[a] = Er[r];
+          if (!(norm(Ep[a]) > stalled_field)) {
+            ends[active[a]] = LineEnd::stalled;
+            h[a] = 0;
           }
         }
       }

@@ -18,6 +18,7 @@
 #include <vector>
 
 #include "soupuv/field/field_lines.h"
+#include "soupuv/mesh.h"
 #include "soupuv/progress.h"
 #include "soupuv/soup.h"
 #include "soupuv/vec.h"
@@ -146,6 +147,10 @@ int fmm_order_for_tolerance(double tolerance);
 
 // One seed per soup triangle corner (triangle * 3 + k), side 0.
 std::vector<TraceSeed> corner_seeds(const Soup& soup);
+// One seed per vertex of an indexed mesh that some face uses (the paper's
+// protocol for meshes: Table 5), along the sum of its faces' area-weighted
+// normals, side 0; `corner` names the vertex's first corner (face * 3 + k).
+std::vector<TraceSeed> vertex_seeds(const TriMesh& mesh);
 
 struct TraceOptions {
   enum class Integrator { euler, midpoint };
@@ -209,23 +214,27 @@ struct TraceOptions {
   double max_turn_per_step = 0.05;
   // Where the line runs straight, a near-surface step may also grow to this
   // many times the line's previous step (up to the nominal step), beyond the
-  // near_step_fraction of the distance; such a step is taken only if its
-  // segment meets no soup triangle (Fmm::segment_crosses), otherwise it is
-  // redone at the distance rule. 0: the distance rule alone. Why: from
-  // eps = 1e-3 edges the distance rule (x1.9 per step at most) took ~14
-  // steps to leave the near zone, each with ~90 near triangles per
+  // near_step_fraction of the distance. Such a step is redone at the
+  // distance rule when the field turned by more than max_turn_per_step
+  // between its start and its midpoint, or when its segment meets a soup
+  // triangle (Fmm::segment_crosses). Midpoint integrator only (the check
+  // needs the midpoint's field); 0: the distance rule alone.
+  // Why: from eps = 1e-3 edges the distance rule (x1.9 per step at most)
+  // took ~14 steps to leave the near zone, each with ~90 near triangles per
   // evaluation: ~70 % of the trace time at 204,800 triangles.
-  // Measured (soupuv-bench step-rule: 50 midpoint steps of 0.02 against a
-  // fine reference, crossing points with offset surfaces at 0.05 and 0.2):
-  // p99 shift in mean edges for growth 0 / 4 / 16 / 64: torus 12,800
-  // 2.5e-3 / 2.2e-3 / 2.6e-3 / 2.6e-3; noisy torus soup 3,200 1.3e-3 /
-  // 1.3e-3 / 1.6e-3 / 1.6e-3; cube soup 4,800 1.5e-3 at every growth. Lines
-  // meeting the noisy soup 1,411 / 1,408 / 1,408 / 1,406 (inside the noise,
-  // next to their seeds: not caused by steps); 75 of 18,047 grown steps
-  // redone at 16. Trace 204,800 (Table 5, one run each, same minutes):
-  // growth 0 17.2 / 17.7 s, 4 14.6 / 12.5 s, 16 12.5 / 11.4 s. The turn
-  // limit, not the growth, bounds accuracy; 16 keeps a sane bound on how far
-  // one step's curvature estimate is trusted.
+  // Measured (soupuv-bench step-rule; p99 shift of the crossing points with
+  // offset surfaces at 0.05 / 0.2 against a fine reference, mean edges),
+  // growth 0 -> 16, 50 steps of 0.02 | of the default 2 % of the diagonal:
+  //   torus 12,800            2.5e-3 / 1.9e-3 -> 2.6e-3 / 1.9e-3 | 2.7e-3 / 4.3e-2 -> 4.0e-3 / 2.9e-2
+  //   torus soup, noise 3 %   1.3e-3 / 1.0e-3 -> 1.3e-3 / 1.0e-3 | 1.4e-3 / 1.9e-2 -> 3.9e-3 / 1.9e-2
+  //   torus soup, noise 13 %  5.2e-3 / 5.2e-3 -> 5.1e-3 / 5.6e-3 | 7.5e-3 / 1.7e-2 -> 7.2e-3 / 1.7e-2
+  //   cube soup 4,800         1.5e-3 / 8.0e-4 -> 1.5e-3 / 8.0e-4 | 1.5e-3 / 6.8e-3 -> 2.3e-3 / 6.8e-3
+  // with the same lines meeting the soup (inside the noise, next to their
+  // seeds) and the same triangles whose corner lines spread > 3x. Without
+  // the turn check the 13 % soup's p99 doubled (1.6e-2 at default steps) and
+  // the pipeline's noisy 100k torus lost its UV stretch (L2 1.15 -> 1.92;
+  // with the check 1.152, as the distance rule's 1.153). 4 and 64 measure
+  // as 16; 16 bounds how far one step's curvature estimate is trusted.
   double max_step_growth = 16;
   bool direct = false;       // evaluate the field by O(n) direct summation (the FMM's slow twin)
   // A line ends as LineEnd::trapped after this many steps in a row within
