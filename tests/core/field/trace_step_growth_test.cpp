@@ -31,6 +31,19 @@ bool crossing(const FieldLines& l, size_t i, double o, Vec3& at) {
   return false;
 }
 
+// The reference: the distance rule alone, fine steps and turns, long enough
+// to pass the offsets the tests look at.
+TraceOptions reference_options() {
+  TraceOptions o;
+  o.max_step_growth = 0;
+  o.near_step_fraction = 0.5;
+  o.max_turn_per_step = 0.01;
+  o.step = 0.0025;
+  o.max_steps = 400;
+  o.stop_radius = 100;
+  return o;
+}
+
 TraceOptions table5_like(double growth) {
   TraceOptions o;
   o.max_steps = 50;
@@ -47,14 +60,7 @@ TEST(TraceStepGrowth, LinesLeaveSoonerAndCrossWhereTheReferenceDoes) {
   const Soup soup = shapes::to_soup(mesh);
   const ChargeResult c = solve_charges(soup, ChargeOptions{});
   const auto seeds = vertex_seeds(mesh);
-  TraceOptions ref_o;  // the distance rule alone, fine steps
-  ref_o.max_step_growth = 0;
-  ref_o.near_step_fraction = 0.5;
-  ref_o.max_turn_per_step = 0.01;
-  ref_o.step = 0.0025;
-  ref_o.max_steps = 400;
-  ref_o.stop_radius = 100;
-  const FieldLines ref = trace_field_lines(c, seeds, ref_o);
+  const FieldLines ref = trace_field_lines(c, seeds, reference_options());
   TraceStats s0, s4;
   const FieldLines l0 = trace_field_lines(c, seeds, table5_like(0), Progress::none(), &s0);
   const FieldLines l4 = trace_field_lines(c, seeds, table5_like(4), Progress::none(), &s4);
@@ -121,14 +127,7 @@ TEST(TraceStepGrowth, RoughSoupCrossingsMatchTheDistanceRule) {
   const Soup soup = shapes::to_soup(shapes::torus_with(1.0, 0.5, 3200), 5e-3, 1);
   const ChargeResult c = solve_charges(soup, ChargeOptions{});
   const auto seeds = corner_seeds(soup);
-  TraceOptions ref_o;
-  ref_o.max_step_growth = 0;
-  ref_o.near_step_fraction = 0.5;
-  ref_o.max_turn_per_step = 0.01;
-  ref_o.step = 0.0025;
-  ref_o.max_steps = 400;
-  ref_o.stop_radius = 100;
-  const FieldLines ref = trace_field_lines(c, seeds, ref_o);
+  const FieldLines ref = trace_field_lines(c, seeds, reference_options());
   auto p99_shift = [&](double growth) {
     TraceOptions o;
     o.max_steps = 50;
