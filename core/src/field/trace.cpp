@@ -7,9 +7,9 @@
 // near_step_fraction < 1, larger where the line runs straight) of the
 // distance to the nearest near-rule triangle (never below eps), so a line
 // cannot jump through a nearby face. Where the line runs straight the step
-// may instead grow geometrically (max_step_growth); such a step is taken only
-// if its segment meets no soup triangle, else it is redone at the distance
-// rule. Lines stop outside the stop sphere (or stop_box), at the step
+// may instead grow geometrically (max_step_growth); such a step is kept only
+// if the field does not turn too much within it and its segment meets no
+// soup triangle, else it is redone at the distance rule. Lines stop outside the stop sphere (or stop_box), at the step
 // limit, where |E| vanishes, or when trapped: crawling along the surface at
 // the step floor for options.trapped_steps steps in a row.
 //
@@ -354,8 +354,8 @@ FieldLines trace_field_lines(const ChargeResult& charges, const std::vector<Trac
     const double h = curvature > 0 ? options.max_turn_per_step / curvature : upper;
     return std::clamp(h, min_fraction * d, upper);
   };
-  // Steps longer than max_fraction * d (grown steps) are checked against the
-  // soup once their direction is known; `safe_h` is the length they fall
+  // Steps longer than max_fraction * d (grown steps) are checked once the
+  // midpoint's field is known (below); `safe_h` is the length they fall
   // back to (the distance rule's bound), 0 for steps that need no check.
   std::vector<double> safe_h;
   std::vector<long> redo;
