@@ -78,6 +78,8 @@ void add_stats(nlohmann::json& j, const field::TraceStats& s) {
   add("step_limit", double(s.step_limit));
   add("stalled", double(s.stalled));
   add("trapped", double(s.trapped));
+  add("grown_steps", double(s.grown_steps));
+  add("grown_steps_redone", double(s.grown_steps_redone));
 }
 
 // Lines for the corners in `seeds` replace those of `base` (same corner).
