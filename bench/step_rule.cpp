@@ -74,13 +74,6 @@ bool crossing(const FieldLines& l, size_t i, const OffsetFn& outside, double o, 
   return false;
 }
 
-double mean_edge(const Soup& soup) {
-  double sum = 0;
-  for (size_t t = 0; t < soup.triangles.size(); ++t)
-    for (int k = 0; k < 3; ++k) sum += norm(soup.corner(t, (k + 1) % 3) - soup.corner(t, k));
-  return sum / (3.0 * soup.triangles.size());
-}
-
 // Lines with a segment (after the start point) that meets a soup triangle.
 size_t lines_meeting_soup(const Fmm& fmm, const FieldLines& l) {
   size_t count = 0;
@@ -125,7 +118,7 @@ void run_case(const Case& c) {
   const ChargeResult charges = solve_charges(c.soup, ChargeOptions{});
   const SourceGeometry src = make_sources(charges.positions, charges.triangles, charges.quadrature_degree);
   const Fmm fmm(src, FmmOptions{});
-  const double edge = mean_edge(c.soup);
+  const double edge = mean_edge_length(c.soup);
   TraceOptions ref_o;
   ref_o.max_step_growth = 0;
   ref_o.near_step_fraction = 0.5;

@@ -25,6 +25,13 @@ Vec3 triangle_normal(const Soup& soup, size_t t) {
   return normalized(cross(b - a, c - a));
 }
 
+double mean_edge_length(const Soup& soup) {
+  double sum = 0;
+  for (size_t t = 0; t < soup.triangles.size(); ++t)
+    for (int k = 0; k < 3; ++k) sum += norm(soup.corner(t, k) - soup.corner(t, (k + 1) % 3));
+  return soup.triangles.empty() ? 0 : sum / (3.0 * double(soup.triangles.size()));
+}
+
 std::string geometry_hash(const Soup& soup) {
   Hasher h;
   h.add(soup.triangles.size());

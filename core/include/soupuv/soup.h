@@ -40,6 +40,9 @@ double triangle_area(const Soup& soup, size_t t);
 // Unit normal of triangle t by its winding ({0,0,0} for degenerate).
 Vec3 triangle_normal(const Soup& soup, size_t t);
 
+// Mean length of the triangles' edges (each triangle's three; 0 if none).
+double mean_edge_length(const Soup& soup);
+
 // 128-bit content hash of the geometry (positions as used by the triangles, in
 // triangle order), as 32 hex digits. Independent of origins and of how the
 // vertices are shared, so the same triangles give the same key for caches.

@@ -15,13 +15,6 @@ namespace soupuv::pipeline {
 
 namespace {
 
-double mean_edge_length(const Soup& soup) {
-  double sum = 0;
-  for (size_t t = 0; t < soup.triangles.size(); ++t)
-    for (int k = 0; k < 3; ++k) sum += norm(soup.corner(t, k) - soup.corner(t, (k + 1) % 3));
-  return soup.triangles.empty() ? 0 : sum / (3.0 * double(soup.triangles.size()));
-}
-
 double since(std::chrono::steady_clock::time_point t0) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 }
