@@ -33,6 +33,7 @@
 #include "soupuv/transfer/transfer.h"
 #include "soupuv/transfer/uv_repair.h"
 #include "soupuv/transfer/uv_reweld.h"
+#include "soupuv/uvsolve/soup_uv_solve.h"
 
 namespace soupuv {
 
@@ -267,6 +268,14 @@ struct MapOptions {
   size_t candidates_max_triangles = 20000;
   double candidate_max_flipped = 0.005;
   double candidate_max_stretch_l2 = 1.3;
+
+  // The soup UV solve (uvsolve/soup_uv_solve.h): after transfer, the map is
+  // cut where it is discontinuous, folds or overlaps, solved for low
+  // distortion without flips and packed at one density. When on, it
+  // replaces the repair chain above (uv_repair, reweld, island_relax) and
+  // the candidate search.
+  bool soup_uv_solve = true;
+  uvsolve::SoupUvOptions uv_solve;
 
   int threads = 0;             // total budget; 0 = OpenMP default
   cache::Store* cache = nullptr;  // shared, thread-safe; nullptr = no cache

@@ -40,16 +40,24 @@ RowMask assemble(std::vector<RowSpan>& raw, int height) {
 }  // namespace
 
 RowMask rasterize_outline(const std::vector<Vec2>& outline) {
+  std::vector<std::array<int, 2>> segments(outline.size());
+  for (size_t i = 0; i < outline.size(); ++i)
+    segments[i] = {static_cast<int>(i), static_cast<int>((i + 1) % outline.size())};
+  return rasterize_segments(outline, segments);
+}
+
+RowMask rasterize_segments(const std::vector<Vec2>& points,
+                           const std::vector<std::array<int, 2>>& segments) {
   std::vector<RowSpan> raw;
-  const size_t n = outline.size();
+  const size_t n = segments.size();
   double top = 0;
-  for (const Vec2& p : outline) top = std::max(top, p.y);
+  for (const auto& s : segments) top = std::max({top, points[s[0]].y, points[s[1]].y});
   const int height = static_cast<int>(std::floor(top)) + 1;
   // Boundary texels: the x-range of each segment within each row strip. A
   // point belongs to texel (floor x, floor y); that is all the padding
   // argument needs (see the header).
   for (size_t i = 0; i < n; ++i) {
-    Vec2 p = outline[i], q = outline[(i + 1) % n];
+    Vec2 p = points[segments[i][0]], q = points[segments[i][1]];
     if (p.y > q.y) std::swap(p, q);
     const int j0 = static_cast<int>(std::floor(p.y)), j1 = static_cast<int>(std::floor(q.y));
     for (int j = j0; j <= j1; ++j) {
@@ -76,7 +84,7 @@ RowMask rasterize_outline(const std::vector<Vec2>& outline) {
   // centre line y = j + 1/2, half-open in y so a vertex on it counts once).
   std::vector<std::vector<double>> crossings(height);
   for (size_t i = 0; i < n; ++i) {
-    Vec2 p = outline[i], q = outline[(i + 1) % n];
+    Vec2 p = points[segments[i][0]], q = points[segments[i][1]];
     if (p.y > q.y) std::swap(p, q);
     // Rows whose centre c satisfies p.y <= c < q.y.
     const int j0 = static_cast<int>(std::ceil(p.y - 0.5)), j1 = static_cast<int>(std::ceil(q.y - 0.5)) - 1;

@@ -18,6 +18,7 @@
 // texels apart.
 #pragma once
 
+#include <array>
 #include <vector>
 
 #include "soupuv/vec.h"
@@ -38,6 +39,13 @@ struct RowMask {
 };
 
 RowMask rasterize_outline(const std::vector<Vec2>& outline);
+
+// The same for a region bounded by any set of segments (points[a] to
+// points[b]): the boundary edges of a UV island that need not be a disk
+// (holes, several loops). The region is what the even-odd rule puts inside,
+// which for an island without overlap is exactly its triangles.
+RowMask rasterize_segments(const std::vector<Vec2>& points,
+                           const std::vector<std::array<int, 2>>& segments);
 
 // The mask grown by r texels on every side; the result's row/column 0 is the
 // input's -r.

@@ -38,6 +38,9 @@ struct PackChart {
   std::vector<Vec2>* uv;
   const std::vector<std::array<int, 3>>* triangles;
   const std::vector<int>* outline;  // the boundary loop (charts are disks)
+  // Instead of `outline` (null), for raster_pack only: the chart's boundary
+  // edges as vertex pairs, for islands that are not disks.
+  const std::vector<std::array<int, 2>>* boundary = nullptr;
 };
 
 struct PackResult {

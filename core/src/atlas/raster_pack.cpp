@@ -198,10 +198,16 @@ RasterPackResult raster_pack(std::vector<PackChart>& charts, int texture_size, d
     for (int job = 0; job < n * options.angles; ++job) {
       const int i = job / options.angles, k = job % options.angles;
       const Turn& t = turns[i][k];
-      std::vector<Vec2> outline;
-      outline.reserve(charts[i].outline->size());
-      for (int v : *charts[i].outline) outline.push_back(local_texel(t, v, scale));
-      masks[job] = rasterize_outline(outline);
+      if (charts[i].outline) {
+        std::vector<Vec2> outline;
+        outline.reserve(charts[i].outline->size());
+        for (int v : *charts[i].outline) outline.push_back(local_texel(t, v, scale));
+        masks[job] = rasterize_outline(outline);
+      } else {
+        std::vector<Vec2> points(t.uv.size());
+        for (size_t v = 0; v < points.size(); ++v) points[v] = local_texel(t, static_cast<int>(v), scale);
+        masks[job] = rasterize_segments(points, *charts[i].boundary);
+      }
     }
     occ.reset();
     int used = 0;

@@ -346,11 +346,12 @@ MapResult run_map(const Soup& soup, const MapOptions& options, Progress& progres
   // the "candidates" stage's, so the stages add up to the run.
   const double seconds_proxy = pb.seconds_proxy, seconds_atlas = pb.seconds_atlas;
   const double seconds_transfer = uv.seconds_transfer, seconds_repair = uv.seconds_repair,
-               seconds_island = uv.seconds_island;
+               seconds_island = uv.seconds_island, seconds_solve = uv.seconds_solve;
   nlohmann::json candidates_list, candidate_search;
   double seconds_candidates = 0;
   const double coarseness = pipeline::soup_per_proxy_face(soup, pb.proxy);
-  const bool search = pipeline::candidate_search_runs(soup.triangles.size(), coarseness, options);
+  const bool search = !options.soup_uv_solve &&
+                      pipeline::candidate_search_runs(soup.triangles.size(), coarseness, options);
   if (search) {
     auto t_candidates = Clock::now();
     candidates_list = search_candidates(soup, field, options, welds, total_threads, pb, uv, progress);
@@ -367,8 +368,11 @@ MapResult run_map(const Soup& soup, const MapOptions& options, Progress& progres
   const std::vector<std::array<Vec2, 3>>& unrepaired = uv.unrepaired;
   nlohmann::json& repair_json = uv.repair;
   double metric_seconds = 0;
+  // After the UV solve the map has its own density (0: derived from it, as
+  // eval/uvmetrics.py derives it).
   quality::UvMetrics m = measure(soup, tr.corner_uvs, adjacency, options,
-                                 pb.atlas.atlas.uv_per_length, metric_seconds);
+                                 options.soup_uv_solve ? 0.0 : pb.atlas.atlas.uv_per_length,
+                                 metric_seconds);
   auto t_report = Clock::now();
   quality::CornerLanding landed;
   landed.missed = tr.missed;
@@ -405,6 +409,7 @@ MapResult run_map(const Soup& soup, const MapOptions& options, Progress& progres
       {"transfer", {{"seconds", seconds_transfer}}},
       {"uv_repair", {{"seconds", seconds_repair}}},
       {"island_relax", {{"seconds", seconds_island}}},
+      {"uv_solve", {{"seconds", seconds_solve}}},
       {"metrics", {{"seconds", metric_seconds}}}};
   if (search) d["stages"]["candidates"] = {{"seconds", seconds_candidates}};
   // The rest of the run, so the stages add up: the soup's welds for §8, the
@@ -443,6 +448,7 @@ MapResult run_map(const Soup& soup, const MapOptions& options, Progress& progres
   d["uv"]["repaired_triangles"] = repair_json.value("repaired_triangles", 0);
   d["uv_repair"] = repair_json;
   d["island_relax"] = uv.island;
+  if (options.soup_uv_solve) d["uv_solve"] = uv.solve;
   size_t hits = size_t(field.charges_cached) + size_t(field.lines_cached);
   size_t misses = 2 - hits;
   d["cache"] = cache_json(options.cache, options.cache ? hits : 0, options.cache ? misses : 0);

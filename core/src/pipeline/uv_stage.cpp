@@ -16,6 +16,8 @@ void repair_stage(const Soup& soup, const FieldBranchResult& field, const atlas:
                   const MapOptions& options, UvStageWelds& welds, UvStage& s, Progress& progress);
 void relax_stage(const Soup& soup, const atlas::Atlas& atlas, const MapOptions& options,
                  UvStageWelds& welds, int threads, UvStage& s, Progress& progress);
+void solve_stage(const Soup& soup, const atlas::Atlas& atlas, const MapOptions& options,
+                 UvStageWelds& welds, int threads, UvStage& s, Progress& progress);
 }  // namespace
 
 UvStage run_uv_stage(const Soup& soup, const FieldBranchResult& field, const ProxyBranch& branch,
@@ -45,6 +47,12 @@ UvStage run_uv_stage(const Soup& soup, const FieldBranchResult& field, const Pro
     s.cut_corrected = transfer::apply_cut_probes(soup, field.probes, probe_uvs, tr.corner_uvs);
   }
   s.seconds_transfer = since(t_transfer);
+  if (options.soup_uv_solve) {
+    s.repair = {{"enabled", false}};
+    s.island = {{"enabled", false}, {"ran", false}};
+    solve_stage(soup, atlas, options, welds, threads, s, progress);
+    return s;
+  }
   s.repair = {{"enabled", options.uv_repair}};
   if (options.uv_repair) repair_stage(soup, field, atlas, options, welds, s, progress);
   relax_stage(soup, atlas, options, welds, threads, s, progress);
@@ -156,6 +164,22 @@ void relax_stage(const Soup& soup, const atlas::Atlas& atlas, const MapOptions& 
   s.island.update(r.diagnostics());
   s.seconds_island = since(t0);
   s.island["seconds"] = s.seconds_island;
+}
+
+// The soup UV solve (uvsolve/soup_uv_solve.h) on the transferred map.
+void solve_stage(const Soup& soup, const atlas::Atlas& atlas, const MapOptions& options,
+                 UvStageWelds& welds, int threads, UvStage& s, Progress& progress) {
+  auto t0 = Clock::now();
+  std::vector<int> corner_chart(s.tr.landing.size());
+  for (size_t c = 0; c < corner_chart.size(); ++c) corner_chart[c] = atlas.face_chart[s.tr.landing[c].face];
+  uvsolve::SoupUvOptions o = options.uv_solve;
+  o.threads = threads;
+  uvsolve::SoupUvResult r = uvsolve::solve_soup_uvs(soup, *welds.weld, s.tr.corner_uvs, corner_chart,
+                                                    atlas.uv_per_length, 1.0 / options.metrics_texture_size,
+                                                    o, progress);
+  s.tr.corner_uvs = std::move(r.corner_uvs);
+  s.solve = std::move(r.diagnostics);
+  s.seconds_solve = since(t0);
 }
 
 }  // namespace

@@ -49,7 +49,8 @@ struct UvStage {
   std::vector<std::array<Vec2, 3>> unrepaired;  // empty when the repair is off
   nlohmann::json repair;                        // MapResult's "uv_repair"
   nlohmann::json island;                        // MapResult's "island_relax"
-  double seconds_transfer = 0, seconds_repair = 0, seconds_island = 0;
+  nlohmann::json solve;                         // MapResult's "uv_solve"
+  double seconds_transfer = 0, seconds_repair = 0, seconds_island = 0, seconds_solve = 0;
 };
 
 UvStage run_uv_stage(const Soup& soup, const FieldBranchResult& field, const ProxyBranch& branch,

@@ -1,4 +1,5 @@
 #include "soupuv/quality/uv_metrics.h"
+#include "soupuv/quality/uv_overlap.h"
 
 #include <algorithm>
 #include <cmath>
@@ -137,6 +138,19 @@ UvMetrics uv_metrics(const Soup& soup, const CornerUvs& uvs,
   m.continuity = adjacency.empty() ? 1.0 : double(ok) / double(adjacency.size());
   m.continuity_1texel = adjacency.empty() ? 1.0 : double(ok_plain) / double(adjacency.size());
   for (size_t t = 0; t < n; ++t) m.islands += uf.find(uint32_t(t)) == t;
+
+  std::vector<uint8_t> counted(n, 0);
+  for (size_t t = 0; t < n; ++t) {
+    bool inside = a3[t] > 0;
+    for (int k = 0; k < 3 && inside; ++k) {
+      const Vec2 p = uvs[t][k];
+      inside = p.x >= -1e-6 && p.x <= 1 + 1e-6 && p.y >= -1e-6 && p.y <= 1 + 1e-6;
+    }
+    counted[t] = inside;
+  }
+  const UvOverlap o = uv_overlap(uvs, counted);
+  m.utilisation = o.utilisation;
+  m.overlap = o.overlap;
   return m;
 }
 
@@ -179,7 +193,9 @@ nlohmann::json to_json(const UvMetrics& m) {
           {"continuity", m.continuity},
           {"continuity_1texel", m.continuity_1texel},
           {"islands", m.islands},
-          {"uv_per_length", m.uv_per_length}};
+          {"uv_per_length", m.uv_per_length},
+          {"utilisation", m.utilisation},
+          {"overlap", m.overlap}};
   // Without adjacent pairs continuity would read 1.0 by vacuity: leave it out.
   if (m.adjacent_pairs == 0) {
     j.erase("continuity");

@@ -57,6 +57,10 @@ struct UvMetrics {
   double continuity_1texel = 0; // pairs within 1 texel
   size_t islands = 0;           // components of triangles joined by continuous edges
   double uv_per_length = 0;     // the scale used
+  // As eval/uvmetrics.py (quality/uv_overlap.h): UV area of the triangles
+  // inside [0,1]^2, and the share of their rasterised area covered twice.
+  double utilisation = 0;
+  double overlap = 0;
 };
 
 UvMetrics uv_metrics(const Soup& soup, const CornerUvs& uvs,

@@ -1,0 +1,61 @@
+// The soup UV solve: the one stage after transfer that turns the field
+// lines' landing into the final map (ours, not the paper's).
+//
+// Input : the soup; a weld of its corners; the transferred corner UVs and
+//         each corner's landing chart; the atlas's scale (UV units per 3D
+//         length) and the continuity texel (UV units); options.
+// Output: per soup triangle its corner UVs in [0,1]^2 with, by
+//         construction, no flipped triangle, no two islands sharing a
+//         texel, and one texel density for the whole map; the figures of
+//         each step (diagnostics()).
+// Steps : 1. UV mesh (uvsolve/uv_mesh.h): the welded corners that landed
+//            together share a vertex; the rest is cut (the transfer's
+//            discontinuities).
+//         2. Untangle (untangle.h): islands turned positive; an island with
+//            folds relaxed as rigidly as possible, kept if it folds less.
+//            Fold cut (fold_cut.h): flipped or collapsed triangles cut out
+//            and unfolded back on by their shape.
+//         3. Solve (island_solve.h): SLIM on the symmetric Dirichlet energy,
+//            every island at once, cuts fixed.
+//         4. Overlap split (overlap_split.h): an island whose image laps over
+//            itself, or where different surfaces landed on one place, is
+//            split into pieces that do not.
+//         5. Pack (pack_islands.h): the bitmap packer at one density.
+// Cost  : O(n log n) besides the solve's sparse factorisations.
+#pragma once
+
+#include <array>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "soupuv/progress.h"
+#include "soupuv/quality/weld.h"
+#include "soupuv/soup.h"
+
+namespace soupuv::uvsolve {
+
+struct SoupUvOptions {
+  int texture_size = 1024;     // packing raster, texels per side
+  double padding_px = 2;       // texels between islands
+  // A triangle whose transferred UV area is below this share of its rest
+  // area is cut out and unfolded (an almost collapsed image is a fold).
+  double collapse_ratio = 0.05;
+  int untangle_iterations = 8; // ARAP iterations on islands with a fold
+  int solve_iterations = 10;   // SLIM iterations per island at most
+  // Overlap samples per texel side (2: half-texel spacing).
+  double overlap_samples_per_texel = 2;
+  int threads = 1;
+};
+
+struct SoupUvResult {
+  std::vector<std::array<Vec2, 3>> corner_uvs;
+  nlohmann::json diagnostics;  // the figures of every step, and seconds
+};
+
+SoupUvResult solve_soup_uvs(const Soup& soup, const quality::Weld& weld,
+                            const std::vector<std::array<Vec2, 3>>& transferred,
+                            const std::vector<int>& corner_chart, double uv_per_length,
+                            double texel, const SoupUvOptions& options, Progress& progress);
+
+}  // namespace soupuv::uvsolve

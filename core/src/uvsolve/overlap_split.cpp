@@ -1,0 +1,153 @@
+#include "uvsolve/overlap_split.h"
+
+#include <algorithm>
+#include <cmath>
+#include <deque>
+
+namespace soupuv::uvsolve::detail {
+namespace {
+
+// Calls f(index) for every sample point (i + 1/2, j + 1/2) of the grid
+// (origin, cell, width) strictly inside the triangle, edges half-open by the
+// top-left rule; the triangle must be counter-clockwise.
+template <class F>
+void for_each_sample(const std::array<Vec2, 3>& p, Vec2 origin, double cell, int width, int height, F&& f) {
+  std::array<Vec2, 3> q;
+  for (int k = 0; k < 3; ++k) q[k] = (1.0 / cell) * (p[k] - origin);
+  const double x0 = std::min({q[0].x, q[1].x, q[2].x}), x1 = std::max({q[0].x, q[1].x, q[2].x});
+  const double y0 = std::min({q[0].y, q[1].y, q[2].y}), y1 = std::max({q[0].y, q[1].y, q[2].y});
+  const int i0 = std::max(0, int(std::ceil(x0 - 0.5))), i1 = std::min(width - 1, int(std::floor(x1 - 0.5)));
+  const int j0 = std::max(0, int(std::ceil(y0 - 0.5))), j1 = std::min(height - 1, int(std::floor(y1 - 0.5)));
+  for (int j = j0; j <= j1; ++j)
+    for (int i = i0; i <= i1; ++i) {
+      const double cx = i + 0.5, cy = j + 0.5;
+      bool inside = true;
+      for (int e = 0; e < 3 && inside; ++e) {
+        const Vec2 a = q[e], b = q[(e + 1) % 3];
+        const double dx = b.x - a.x, dy = b.y - a.y;
+        const double w = dx * (cy - a.y) - dy * (cx - a.x);
+        // Counter-clockwise: inside is w > 0; an edge's own points belong to
+        // the triangle on its top or left side only.
+        const bool top_left = dy < 0 || (dy == 0 && dx > 0);
+        inside = w > 0 || (w == 0 && top_left);
+      }
+      if (inside) f(size_t(j) * width + i);
+    }
+}
+
+}  // namespace
+
+OverlapSplitFigures split_overlaps(double cell, int threads, UvLayout& L) {
+  OverlapSplitFigures f;
+  f.cell = cell;
+  const auto islands = island_triangles(L);
+  std::vector<std::vector<std::vector<uint32_t>>> pieces_of(islands.size());
+  size_t overlapping = 0;
+#pragma omp parallel for schedule(dynamic, 1) num_threads(std::max(1, threads)) reduction(+ : overlapping)
+  for (size_t isl = 0; isl < islands.size(); ++isl) {
+    const auto& tris = islands[isl];
+    if (tris.size() < 2) continue;
+    Vec2 lo{INFINITY, INFINITY}, hi{-INFINITY, -INFINITY}, centroid{0, 0};
+    double area = 0;
+    for (uint32_t t : tris) {
+      Vec2 c{0, 0};
+      for (uint32_t v : L.corner_vertex[t]) {
+        const Vec2 p = L.uv[v];
+        lo = {std::min(lo.x, p.x), std::min(lo.y, p.y)};
+        hi = {std::max(hi.x, p.x), std::max(hi.y, p.y)};
+        c = c + (1.0 / 3) * p;
+      }
+      const double a = std::abs(0.5 * signed_area2(L, t));
+      centroid = centroid + a * c;
+      area += a;
+    }
+    if (area > 0) centroid = (1.0 / area) * centroid;
+    // The grid: `cell` unless the island would need more than 2^24 samples.
+    double h = cell;
+    const double cells = (hi.x - lo.x) * (hi.y - lo.y) / (h * h);
+    if (cells > double(1 << 24)) h *= std::sqrt(cells / double(1 << 24));
+    const int width = int(std::ceil((hi.x - lo.x) / h)) + 1, height = int(std::ceil((hi.y - lo.y) / h)) + 1;
+    std::vector<uint8_t> taken(size_t(width) * height, 0);
+    // Edge neighbours inside the island (by shared vertices).
+    std::vector<std::pair<uint64_t, uint32_t>> uses;
+    for (uint32_t i = 0; i < tris.size(); ++i)
+      for (int k = 0; k < 3; ++k) {
+        uint32_t a = L.corner_vertex[tris[i]][k], b = L.corner_vertex[tris[i]][(k + 1) % 3];
+        if (a > b) std::swap(a, b);
+        uses.push_back({(uint64_t(a) << 32) | b, i});
+      }
+    std::sort(uses.begin(), uses.end());
+    std::vector<std::vector<uint32_t>> nb(tris.size());
+    for (size_t i = 1; i < uses.size(); ++i)
+      if (uses[i].first == uses[i - 1].first) {
+        nb[uses[i].second].push_back(uses[i - 1].second);
+        nb[uses[i - 1].second].push_back(uses[i].second);
+      }
+    auto corners = [&](uint32_t i) {
+      const auto& cv = L.corner_vertex[tris[i]];
+      return std::array<Vec2, 3>{L.uv[cv[0]], L.uv[cv[1]], L.uv[cv[2]]};
+    };
+    // Seed: the triangle whose centroid is nearest the island's.
+    uint32_t seed = 0;
+    double best = INFINITY;
+    for (uint32_t i = 0; i < tris.size(); ++i) {
+      const auto p = corners(i);
+      const double d = norm((1.0 / 3) * (p[0] + p[1] + p[2]) - centroid);
+      if (d < best) best = d, seed = i;
+    }
+    std::vector<int> piece(tris.size(), -1);
+    std::vector<size_t> mine, written;
+    int pieces = 0;
+    size_t assigned = 0, next_seed = 0;
+    while (assigned < tris.size()) {
+      if (pieces > 0) {
+        for (size_t s : written) taken[s] = 0;
+        while (piece[next_seed] >= 0) ++next_seed;
+        seed = uint32_t(next_seed);
+      }
+      written.clear();
+      std::vector<uint8_t> tried(tris.size(), 0);
+      std::deque<uint32_t> queue{seed};
+      tried[seed] = 1;
+      bool first = true;
+      while (!queue.empty()) {
+        const uint32_t i = queue.front();
+        queue.pop_front();
+        mine.clear();
+        bool free = true;
+        for_each_sample(corners(i), lo, h, width, height, [&](size_t s) {
+          if (taken[s]) free = false;
+          mine.push_back(s);
+        });
+        if (!free && !first) continue;  // the seed always starts its piece
+        first = false;
+        for (size_t s : mine) taken[s] = 1;
+        written.insert(written.end(), mine.begin(), mine.end());
+        piece[i] = pieces;
+        ++assigned;
+        for (uint32_t j : nb[i])
+          if (!tried[j] && piece[j] < 0) {
+            tried[j] = 1;
+            queue.push_back(j);
+          }
+      }
+      ++pieces;
+    }
+    if (pieces > 1) {
+      ++overlapping;
+      pieces_of[isl].resize(pieces);
+      for (uint32_t i = 0; i < tris.size(); ++i) pieces_of[isl][piece[i]].push_back(tris[i]);
+    }
+  }
+  f.overlapping_islands = overlapping;
+  for (auto& list : pieces_of)
+    for (size_t p = 1; p < list.size(); ++p) {
+      for (uint32_t t : list[p]) L.island[t] = L.island_count;
+      ++L.island_count;
+      ++f.pieces_added;
+    }
+  if (f.pieces_added) split_vertices_by_island(L);
+  return f;
+}
+
+}  // namespace soupuv::uvsolve::detail

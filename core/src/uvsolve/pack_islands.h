@@ -1,0 +1,28 @@
+// Packs the layout's islands into the unit square (private to the UV solve)
+// with the project's bitmap packer (atlas/raster_pack.h) at one texel
+// density: islands are rasterised from their boundary edges (they need not
+// be disks), turned, and placed so they never overlap and keep the padding.
+//
+// Input : the layout, the texture size and padding in texels, threads.
+// Output: per soup triangle its corner UVs in [0,1]^2 and the packing's
+//         scale (texels per UV unit) and utilisation (UV area / 1).
+// Throws: Error{limit_exceeded} when the islands fit at no scale.
+#pragma once
+
+#include <array>
+#include <vector>
+
+#include "uvsolve/uv_layout.h"
+
+namespace soupuv::uvsolve::detail {
+
+struct PackFigures {
+  double texels_per_uv = 0;
+  double utilisation = 0;
+  int attempts = 0;
+};
+
+PackFigures pack_islands(const UvLayout& layout, int texture_size, double padding_px, int threads,
+                         std::vector<std::array<Vec2, 3>>& corner_uvs);
+
+}  // namespace soupuv::uvsolve::detail

@@ -1,0 +1,107 @@
+#include "soupuv/uvsolve/soup_uv_solve.h"
+
+#include <chrono>
+#include <cmath>
+
+#include "uvsolve/fold_cut.h"
+#include "uvsolve/island_solve.h"
+#include "uvsolve/overlap_split.h"
+#include "uvsolve/pack_islands.h"
+#include "uvsolve/untangle.h"
+#include "uvsolve/uv_mesh.h"
+
+namespace soupuv::uvsolve {
+namespace {
+using Clock = std::chrono::steady_clock;
+double since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
+
+// Share of the weld's adjacent pairs whose two shared corners still share
+// layout vertices: the continuity each step leaves (cuts only lower it).
+double kept_pairs(const std::vector<quality::AdjacentPair>& pairs, const detail::UvLayout& L) {
+  if (pairs.empty()) return 1;
+  size_t kept = 0;
+  for (const auto& p : pairs)
+    kept += L.corner_vertex[p.a][p.a_corner[0]] == L.corner_vertex[p.b][p.b_corner[0]] &&
+            L.corner_vertex[p.a][p.a_corner[1]] == L.corner_vertex[p.b][p.b_corner[1]];
+  return double(kept) / double(pairs.size());
+}
+}  // namespace
+
+SoupUvResult solve_soup_uvs(const Soup& soup, const quality::Weld& weld,
+                            const std::vector<std::array<Vec2, 3>>& transferred,
+                            const std::vector<int>& corner_chart, double uv_per_length,
+                            double texel, const SoupUvOptions& options, Progress& progress) {
+  SoupUvResult r;
+  nlohmann::json& d = r.diagnostics;
+  auto t0 = Clock::now();
+  progress.update("uv_solve", 0);
+  detail::UvLayout layout =
+      detail::build_uv_mesh(soup, weld, transferred, corner_chart, texel, uv_per_length);
+  const std::vector<quality::AdjacentPair> pairs = quality::edge_adjacency(weld, soup.triangles.size());
+  d["uv_mesh"] = {{"vertices", layout.uv.size()},
+                  {"islands", layout.island_count},
+                  {"kept_pairs", kept_pairs(pairs, layout)},
+                  {"seconds", since(t0)}};
+
+  auto t_untangle = Clock::now();
+  const size_t mirrored = detail::orient_islands(soup, layout);
+  const detail::UntangleFigures uf = detail::untangle_islands(
+      soup, uv_per_length, options.collapse_ratio, options.untangle_iterations, options.threads, layout);
+  d["untangle"] = {{"mirrored_islands", mirrored},
+                   {"folded_islands", uf.folded_islands},
+                   {"untangled_islands", uf.untangled_islands},
+                   {"folded_before", uf.bad_before},
+                   {"folded_after", uf.bad_after},
+                   {"seconds", since(t_untangle)}};
+
+  auto t1 = Clock::now();
+  const detail::FoldCutFigures fc = detail::cut_folds(soup, uv_per_length, options.collapse_ratio, layout);
+  d["fold_cut"] = {{"cut_triangles", fc.cut_triangles},
+                   {"unfolded_triangles", fc.unfolded_triangles},
+                   {"seeded_islands", fc.seeded_islands},
+                   {"islands", layout.island_count},
+                   {"kept_pairs", kept_pairs(pairs, layout)},
+                   {"seconds", since(t1)}};
+  progress.update("uv_solve", 0.1);
+
+  auto t2 = Clock::now();
+  const detail::SolveFigures sf =
+      detail::solve_islands(soup, uv_per_length, options.solve_iterations, options.threads, layout);
+  d["solve"] = {{"solved_islands", sf.solved_islands},
+                {"unstarted_islands", sf.unstarted_islands},
+                {"energy_before", sf.energy_before},
+                {"energy_after", sf.energy_after},
+                {"max_iterations_used", sf.max_iterations_used},
+                {"seconds", since(t2)}};
+  progress.update("uv_solve", 0.7);
+
+  // The overlap samples: finer than the final texels. The packed scale is
+  // not known yet; the square's side over the islands' total area at full
+  // use bounds it from above, so these samples are at least that fine.
+  auto t3 = Clock::now();
+  double area = 0;
+  for (size_t t = 0; t < layout.corner_vertex.size(); ++t) area += 0.5 * std::abs(detail::signed_area2(layout, t));
+  const double texel_uv = area > 0 ? std::sqrt(area) / options.texture_size : 1.0;
+  const detail::OverlapSplitFigures of =
+      detail::split_overlaps(texel_uv / options.overlap_samples_per_texel, options.threads, layout);
+  d["overlap_split"] = {{"overlapping_islands", of.overlapping_islands},
+                        {"pieces_added", of.pieces_added},
+                        {"islands", layout.island_count},
+                        {"kept_pairs", kept_pairs(pairs, layout)},
+                        {"seconds", since(t3)}};
+  progress.update("uv_solve", 0.8);
+
+  auto t4 = Clock::now();
+  const detail::PackFigures pf = detail::pack_islands(layout, options.texture_size, options.padding_px,
+                                                      options.threads, r.corner_uvs);
+  d["pack"] = {{"islands", layout.island_count},
+               {"texels_per_uv", pf.texels_per_uv},
+               {"utilisation", pf.utilisation},
+               {"attempts", pf.attempts},
+               {"seconds", since(t4)}};
+  d["seconds"] = since(t0);
+  progress.update("uv_solve", 1);
+  return r;
+}
+
+}  // namespace soupuv::uvsolve

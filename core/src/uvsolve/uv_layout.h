@@ -1,0 +1,41 @@
+// The soup's UV map as a mesh (private to the UV solve): every soup triangle
+// has three layout vertices, a vertex has one UV, and every triangle belongs
+// to one island. Corners that share a vertex are continuous by construction;
+// the stages of the UV solve (soup_uv_solve.h) only ever cut (give a corner
+// its own vertex) or move vertices, so continuity is decided in one place.
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <vector>
+
+#include "soupuv/soup.h"
+#include "soupuv/vec.h"
+
+namespace soupuv::uvsolve::detail {
+
+struct UvLayout {
+  std::vector<std::array<uint32_t, 3>> corner_vertex;  // per soup triangle
+  std::vector<Vec2> uv;                                 // per layout vertex
+  std::vector<uint32_t> island;                         // per soup triangle
+  uint32_t island_count = 0;
+};
+
+// Twice the signed UV area of triangle t (positive: counter-clockwise in the
+// soup's corner order).
+double signed_area2(const UvLayout& layout, size_t t);
+
+// Gives every (vertex, island) pair its own vertex, so no vertex is shared by
+// two islands (an island's vertices can move without touching another's).
+void split_vertices_by_island(UvLayout& layout);
+
+// Components of the triangles with active[t] != 0 (all when active is null)
+// that share an edge (two layout vertices); -> component per triangle
+// (UINT32_MAX for inactive ones) and the count.
+uint32_t edge_components(const std::vector<std::array<uint32_t, 3>>& corner_vertex,
+                         const std::vector<uint8_t>* active, std::vector<uint32_t>& component);
+
+// The triangles of each island, in soup order.
+std::vector<std::vector<uint32_t>> island_triangles(const UvLayout& layout);
+
+}  // namespace soupuv::uvsolve::detail
