@@ -102,6 +102,14 @@ Usage:
                              are joined again where nothing folds)
       --reweld-density E     ... a joined triangle's symmetric Dirichlet energy
                              per area may reach E (8; 4 = isometric)
+      --no-uv-solve          the previous UV chain after transfer (repair, reweld,
+                             island relaxation, candidate search) instead of the
+                             soup UV solve (cut, untangle, SLIM, split, pack)
+      --uv-collapse-ratio F  the UV solve cuts triangles whose UV area is below F
+                             x their rest area after untangling (0.05)
+      --uv-untangle-iterations N  ARAP iterations on folded islands (8)
+      --uv-solve-iterations N     SLIM iterations per island (10)
+      --uv-overlap-samples F overlap samples per texel side (2)
       --no-island-relax      skip the island relaxation (a post-process after the
                              repair: each UV island re-flattened as a whole)
       --island-max-triangles N  ... it runs on soups of at most N triangles

@@ -207,6 +207,20 @@ bool parse_method_flag(const std::vector<std::string>& args, size_t& i, MethodFl
     }
   } else if (a == "--candidate-max-triangles") {
     o.candidates_max_triangles = size_t(integer(a, value(), 0, 100000000));
+  } else if (a == "--no-uv-solve") {
+    o.soup_uv_solve = false;
+  } else if (a == "--uv-collapse-ratio") {
+    o.uv_solve.collapse_ratio = number(a, value());
+    if (!(o.uv_solve.collapse_ratio >= 0 && o.uv_solve.collapse_ratio < 1))
+      throw UsageError{"--uv-collapse-ratio needs a value in [0, 1)"};
+  } else if (a == "--uv-untangle-iterations") {
+    o.uv_solve.untangle_iterations = integer(a, value(), 0, 1000);
+  } else if (a == "--uv-solve-iterations") {
+    o.uv_solve.solve_iterations = integer(a, value(), 0, 1000);
+  } else if (a == "--uv-overlap-samples") {
+    o.uv_solve.overlap_samples_per_texel = number(a, value());
+    if (!(o.uv_solve.overlap_samples_per_texel >= 0.25 && o.uv_solve.overlap_samples_per_texel <= 8))
+      throw UsageError{"--uv-overlap-samples needs a value in [0.25, 8]"};
   } else if (a == "--no-chart-fix") {
     o.transfer.fix_chart_boundaries = false;
   } else {

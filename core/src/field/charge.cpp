@@ -63,7 +63,39 @@ ChargeResult solve_charges(const Soup& soup, const ChargeOptions& options_in, Pr
   progress.update("charge", 0.0);
   std::unique_ptr<CollocationOperator> op;
   switch (options.solver) {
-    case ChargeOptions::Solver::krylov: solve_krylov(src, options, progress, r, op); break;
+    case ChargeOptions::Solver::krylov: {
+      solve_krylov(src, options, progress, r, op);
+      // Exact CAD exports can hold coplanar, overlapping (not identical)
+      // triangles; their near-equal columns can break the Krylov solve
+      // (bracket-exact of the corpus: a zero or non-finite total). Robin
+      // hood's positive iteration survives them: retry with it and say so.
+      auto failed = [&] {
+        double sum = 0;
+        for (double q : r.charges) sum += q;
+        return !std::isfinite(sum) || !(std::fabs(sum) > 0);
+      };
+      auto restart = [&](const char* how) {
+        r.warnings.push_back(std::string("the Krylov charge solve failed (total charge not finite or zero); ") + how);
+        r.history.clear();
+        r.history_seconds.clear();
+        r.history_iterations.clear();
+        op.reset();
+      };
+      if (failed()) {
+        // First without the coarse correction and the blocks' overlap (a
+        // near-singular coarse or overlapped block is the likely cause).
+        restart("solved again with plain block-Jacobi");
+        ChargeOptions plain = options;
+        plain.krylov_coarse_correction = false;
+        plain.krylov_overlap_ratio = 0;
+        solve_krylov(src, plain, progress, r, op);
+      }
+      if (failed()) {
+        restart("solved again by robin hood");
+        solve_robin_hood(src, options, progress, r, op);
+      }
+      break;
+    }
     case ChargeOptions::Solver::robin_hood: solve_robin_hood(src, options, progress, r, op); break;
     case ChargeOptions::Solver::dense_lu: solve_dense_lu(src, options, progress, r); break;
   }

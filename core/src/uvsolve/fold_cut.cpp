@@ -88,6 +88,7 @@ FoldCutFigures cut_folds(const Soup& soup, double uv_per_length, double collapse
   if (f.cut_triangles == 0) return f;
 
   // 2. Unfold the cut triangles, breadth first from the placed ones.
+  L.unfolded.assign(n, 0);
   std::vector<uint8_t> placed = good;
   std::deque<uint32_t> queue;
   auto push_neighbours = [&](uint32_t t) {
@@ -132,6 +133,7 @@ FoldCutFigures cut_folds(const Soup& soup, double uv_per_length, double collapse
       queue.pop_front();
       if (placed[t] || !place_from(t)) continue;
       placed[t] = 1;
+      L.unfolded[t] = 1;
       ++f.unfolded_triangles;
       push_neighbours(t);
     }
@@ -153,6 +155,7 @@ FoldCutFigures cut_folds(const Soup& soup, double uv_per_length, double collapse
     L.corner_vertex[t] = {base, base + 1, base + 2};
     L.island[t] = L.island_count++;
     placed[t] = 1;
+    L.unfolded[t] = 1;
     ++f.seeded_islands;
     push_neighbours(t);
   }

@@ -23,6 +23,8 @@ namespace soupuv::uvsolve::detail {
 struct OverlapSplitFigures {
   size_t overlapping_islands = 0;  // islands that had to be split
   size_t pieces_added = 0;
+  size_t singleton_pieces = 0;     // pieces of one triangle
+  size_t unfolded_singletons = 0;  // of those, triangles the fold cut unfolded
   double cell = 0;
 };
 

@@ -2,60 +2,170 @@
 
 #include <algorithm>
 #include <cmath>
+#include <numeric>
 
 #include "atlas/pack.h"
 #include "atlas/raster_pack.h"
 #include "soupuv/errors.h"
 
 namespace soupuv::uvsolve::detail {
+namespace {
+
+// What the bitmap packer moves as one piece: one island, or a row-packed
+// group of small ones (local vertices, triangles, boundary edges).
+struct Unit {
+  std::vector<Vec2> uv;
+  std::vector<std::array<int, 3>> tris;
+  std::vector<std::array<int, 2>> boundary;
+};
+
+// Appends island `tris` of the layout to `unit`, its vertices moved by
+// `shift`; records where each corner's vertex went.
+// Turned by `axis` (a unit vector that becomes +x) first, when given.
+void append_island(const UvLayout& L, const std::vector<uint32_t>& tris, Vec2 shift, Unit& unit,
+                   std::vector<uint32_t>& local, std::vector<std::array<int, 3>>& corner_slot,
+                   Vec2 axis = {1, 0}) {
+  const int base_tri = int(unit.tris.size());
+  for (uint32_t t : tris) {
+    std::array<int, 3> tri;
+    for (int c = 0; c < 3; ++c) {
+      const uint32_t v = L.corner_vertex[t][c];
+      if (local[v] == UINT32_MAX) {
+        local[v] = uint32_t(unit.uv.size());
+        const Vec2 p = L.uv[v];
+        unit.uv.push_back(Vec2{axis.x * p.x + axis.y * p.y, -axis.y * p.x + axis.x * p.y} + shift);
+      }
+      tri[c] = int(local[v]);
+    }
+    unit.tris.push_back(tri);
+    corner_slot[t] = tri;
+  }
+  // Boundary edges: an edge used an odd number of times (even-odd rule).
+  std::vector<std::pair<uint64_t, std::array<int, 2>>> edges;
+  for (size_t j = base_tri; j < unit.tris.size(); ++j)
+    for (int c = 0; c < 3; ++c) {
+      const int a = unit.tris[j][c], b = unit.tris[j][(c + 1) % 3];
+      edges.push_back({(uint64_t(std::min(a, b)) << 32) | uint32_t(std::max(a, b)), {a, b}});
+    }
+  std::sort(edges.begin(), edges.end(), [](const auto& x, const auto& y) { return x.first < y.first; });
+  for (size_t e = 0; e < edges.size();) {
+    size_t f = e;
+    while (f < edges.size() && edges[f].first == edges[e].first) ++f;
+    if ((f - e) % 2 == 1) unit.boundary.push_back(edges[e].second);
+    e = f;
+  }
+  for (uint32_t t : tris)
+    for (int c = 0; c < 3; ++c) local[L.corner_vertex[t][c]] = UINT32_MAX;
+}
+
+}  // namespace
 
 PackFigures pack_islands(const UvLayout& L, int texture_size, double padding_px, int threads,
                          std::vector<std::array<Vec2, 3>>& corner_uvs) {
   const auto islands = island_triangles(L);
   const size_t k = islands.size();
-  std::vector<std::vector<Vec2>> uv(k);
-  std::vector<std::vector<std::array<int, 3>>> tris(k);
-  std::vector<std::vector<std::array<int, 2>>> boundary(k);
-  std::vector<uint32_t> local(L.uv.size(), UINT32_MAX);
-  for (size_t i = 0; i < k; ++i) {
+  std::vector<Vec2> lo(k, {INFINITY, INFINITY}), hi(k, {-INFINITY, -INFINITY});
+  double total_area = 0;
+  for (size_t i = 0; i < k; ++i)
     for (uint32_t t : islands[i]) {
-      std::array<int, 3> tri;
-      for (int c = 0; c < 3; ++c) {
-        const uint32_t v = L.corner_vertex[t][c];
-        if (local[v] == UINT32_MAX) {
-          local[v] = uint32_t(uv[i].size());
-          uv[i].push_back(L.uv[v]);
-        }
-        tri[c] = int(local[v]);
+      total_area += 0.5 * std::abs(signed_area2(L, t));
+      for (uint32_t v : L.corner_vertex[t]) {
+        lo[i] = {std::min(lo[i].x, L.uv[v].x), std::min(lo[i].y, L.uv[v].y)};
+        hi[i] = {std::max(hi[i].x, L.uv[v].x), std::max(hi[i].y, L.uv[v].y)};
       }
-      tris[i].push_back(tri);
     }
-    // Boundary edges: used once (as directed edges, an edge used by two
-    // triangles of one orientation appears once each way).
-    std::vector<std::pair<uint64_t, std::array<int, 2>>> edges;
-    for (const auto& tri : tris[i])
-      for (int c = 0; c < 3; ++c) {
-        int a = tri[c], b = tri[(c + 1) % 3];
-        edges.push_back({(uint64_t(std::min(a, b)) << 32) | uint32_t(std::max(a, b)), {a, b}});
-      }
-    std::sort(edges.begin(), edges.end(), [](const auto& x, const auto& y) { return x.first < y.first; });
-    for (size_t e = 0; e < edges.size();) {
-      size_t f = e;
-      while (f < edges.size() && edges[f].first == edges[e].first) ++f;
-      // An odd count leaves the edge on the boundary (even-odd rule).
-      if ((f - e) % 2 == 1) boundary[i].push_back(edges[e].second);
-      e = f;
+  // The packing's scale is at most the one that fills the square: the gap
+  // kept between grouped islands, in UV units, holds the padding at least.
+  const double max_scale = total_area > 0 ? texture_size / std::sqrt(total_area) : 1;
+  const double gap = (std::ceil(padding_px) + 1) / max_scale;
+  // When there are many islands, all but the 128 largest (each costs the
+  // packer a rasterisation per turn and a search per packing, whatever its
+  // size) are grouped into rows about 1/8 of the square's side wide before
+  // packing; an island longer than half a row stays alone.
+  const double row_width = std::sqrt(total_area) / 8;
+  std::vector<uint8_t> small(k, 0);
+  if (k > 256) {
+    std::vector<double> area(k, 0);
+    for (size_t i = 0; i < k; ++i)
+      for (uint32_t t : islands[i]) area[i] += std::abs(signed_area2(L, t));
+    std::vector<uint32_t> by_area(k);
+    std::iota(by_area.begin(), by_area.end(), 0u);
+    std::stable_sort(by_area.begin(), by_area.end(), [&](uint32_t a, uint32_t b) { return area[a] > area[b]; });
+    for (size_t j = 128; j < k; ++j) {
+      const uint32_t i = by_area[j];
+      small[i] = std::max(hi[i].x - lo[i].x, hi[i].y - lo[i].y) < 0.5 * row_width;
     }
-    for (uint32_t t : islands[i])
-      for (int c = 0; c < 3; ++c) local[L.corner_vertex[t][c]] = UINT32_MAX;
   }
-  std::vector<atlas::PackChart> charts(k);
-  for (size_t i = 0; i < k; ++i) charts[i] = {&uv[i], &tris[i], nullptr, &boundary[i]};
+
+  // Small islands are turned to their minimal-area rectangle, long side
+  // along the row (a needle lies flat), before they are put in rows.
+  std::vector<Vec2> axis(k, {1, 0});
+  for (size_t i = 0; i < k; ++i) {
+    if (!small[i]) continue;
+    std::vector<Vec2> points;
+    for (uint32_t t : islands[i])
+      for (uint32_t v : L.corner_vertex[t]) points.push_back(L.uv[v]);
+    const atlas::MinRectangle r = atlas::min_area_rectangle(points);
+    axis[i] = r.size.x >= r.size.y ? r.axis : Vec2{-r.axis.y, r.axis.x};
+    lo[i] = {INFINITY, INFINITY};
+    hi[i] = {-INFINITY, -INFINITY};
+    for (const Vec2& p : points) {
+      const Vec2 q{axis[i].x * p.x + axis[i].y * p.y, -axis[i].y * p.x + axis[i].x * p.y};
+      lo[i] = {std::min(lo[i].x, q.x), std::min(lo[i].y, q.y)};
+      hi[i] = {std::max(hi[i].x, q.x), std::max(hi[i].y, q.y)};
+    }
+  }
+
+  std::vector<Unit> units;
+  std::vector<uint32_t> local(L.uv.size(), UINT32_MAX);
+  std::vector<std::array<int, 3>> corner_slot(L.corner_vertex.size());
+  std::vector<uint32_t> unit_of_triangle(L.corner_vertex.size());
+  for (size_t i = 0; i < k; ++i) {
+    if (small[i]) continue;
+    units.emplace_back();
+    append_island(L, islands[i], {0, 0}, units.back(), local, corner_slot);
+    for (uint32_t t : islands[i]) unit_of_triangle[t] = uint32_t(units.size() - 1);
+  }
+  // Shelves of small islands, tallest first; a group closes at 8 rows.
+  std::vector<uint32_t> order;
+  for (size_t i = 0; i < k; ++i)
+    if (small[i]) order.push_back(uint32_t(i));
+  std::stable_sort(order.begin(), order.end(),
+                   [&](uint32_t a, uint32_t b) { return hi[a].y - lo[a].y > hi[b].y - lo[b].y; });
+  size_t grouped = 0;
+  for (size_t at = 0; at < order.size();) {
+    units.emplace_back();
+    Unit& unit = units.back();
+    double y = 0;
+    for (int row = 0; row < 8 && at < order.size(); ++row) {
+      double x = 0, row_height = 0;
+      while (at < order.size()) {
+        const uint32_t i = order[at];
+        const Vec2 size = hi[i] - lo[i];
+        if (x > 0 && x + size.x > row_width) break;
+        append_island(L, islands[i], Vec2{x, y} - lo[i], unit, local, corner_slot, axis[i]);
+        for (uint32_t t : islands[i]) unit_of_triangle[t] = uint32_t(units.size() - 1);
+        x += size.x + gap;
+        row_height = std::max(row_height, size.y);
+        ++at;
+        ++grouped;
+      }
+      y += row_height + gap;
+    }
+  }
+
+  std::vector<atlas::PackChart> charts(units.size());
+  for (size_t u = 0; u < units.size(); ++u) charts[u] = {&units[u].uv, &units[u].tris, nullptr, &units[u].boundary};
   atlas::RasterPackOptions ro;
   ro.threads = threads;
-  // Many small islands: fewer turns (each costs a rasterisation per packing).
-  if (k > 2000) ro.angles = 4;
-  else if (k > 200) ro.angles = 8;
+  // Many units: fewer turns and packings (each packing rasterises every
+  // unit in every turn); the scale search stops within 1 %.
+  if (units.size() > 200) {
+    ro.angles = 8;
+    ro.precision = 1.01;
+    ro.max_packings = 6;
+    ro.variant_packings = 1;
+  }
   const atlas::RasterPackResult r = atlas::raster_pack(charts, texture_size, padding_px, 0, ro);
   if (!(r.scale > 0))
     throw Error(ErrorCode::limit_exceeded,
@@ -64,15 +174,12 @@ PackFigures pack_islands(const UvLayout& L, int texture_size, double padding_px,
   PackFigures f;
   f.texels_per_uv = r.scale;
   f.attempts = r.attempts;
+  f.units = units.size();
+  f.grouped_islands = grouped;
   corner_uvs.assign(L.corner_vertex.size(), {});
-  for (size_t i = 0; i < k; ++i) {
-    size_t j = 0;
-    for (uint32_t t : islands[i]) {
-      for (int c = 0; c < 3; ++c) corner_uvs[t][c] = uv[i][tris[i][j][c]];
-      ++j;
-    }
-  }
   for (size_t t = 0; t < corner_uvs.size(); ++t) {
+    const Unit& unit = units[unit_of_triangle[t]];
+    for (int c = 0; c < 3; ++c) corner_uvs[t][c] = unit.uv[corner_slot[t][c]];
     const auto& p = corner_uvs[t];
     f.utilisation += 0.5 * std::abs(cross(p[1] - p[0], p[2] - p[0]));
   }

@@ -2,6 +2,10 @@
 // with the project's bitmap packer (atlas/raster_pack.h) at one texel
 // density: islands are rasterised from their boundary edges (they need not
 // be disks), turned, and placed so they never overlap and keep the padding.
+// When there are many, all but the 128 largest (unless longer than half a
+// row of 1/8 the square's side) are first put side by side in rows, with a gap that keeps the padding at
+// any scale the packer can reach, and each group is packed as one piece:
+// the packer's cost grows with the pieces, not their size.
 //
 // Input : the layout, the texture size and padding in texels, threads.
 // Output: per soup triangle its corner UVs in [0,1]^2 and the packing's
@@ -20,6 +24,8 @@ struct PackFigures {
   double texels_per_uv = 0;
   double utilisation = 0;
   int attempts = 0;
+  size_t units = 0;            // pieces the packer moved
+  size_t grouped_islands = 0;  // small islands packed in rows first, as groups
 };
 
 PackFigures pack_islands(const UvLayout& layout, int texture_size, double padding_px, int threads,

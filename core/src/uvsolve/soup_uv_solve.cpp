@@ -82,10 +82,11 @@ SoupUvResult solve_soup_uvs(const Soup& soup, const quality::Weld& weld,
   double area = 0;
   for (size_t t = 0; t < layout.corner_vertex.size(); ++t) area += 0.5 * std::abs(detail::signed_area2(layout, t));
   const double texel_uv = area > 0 ? std::sqrt(area) / options.texture_size : 1.0;
-  const detail::OverlapSplitFigures of =
-      detail::split_overlaps(texel_uv / options.overlap_samples_per_texel, options.threads, layout);
+  const detail::OverlapSplitFigures of = detail::split_overlaps(texel_uv / options.overlap_samples_per_texel, options.threads, layout);
   d["overlap_split"] = {{"overlapping_islands", of.overlapping_islands},
                         {"pieces_added", of.pieces_added},
+                        {"singleton_pieces", of.singleton_pieces},
+                        {"unfolded_singletons", of.unfolded_singletons},
                         {"islands", layout.island_count},
                         {"kept_pairs", kept_pairs(pairs, layout)},
                         {"seconds", since(t3)}};
@@ -98,6 +99,8 @@ SoupUvResult solve_soup_uvs(const Soup& soup, const quality::Weld& weld,
                {"texels_per_uv", pf.texels_per_uv},
                {"utilisation", pf.utilisation},
                {"attempts", pf.attempts},
+               {"units", pf.units},
+               {"grouped_islands", pf.grouped_islands},
                {"seconds", since(t4)}};
   d["seconds"] = since(t0);
   progress.update("uv_solve", 1);

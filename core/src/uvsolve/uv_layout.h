@@ -19,6 +19,9 @@ struct UvLayout {
   std::vector<Vec2> uv;                                 // per layout vertex
   std::vector<uint32_t> island;                         // per soup triangle
   uint32_t island_count = 0;
+  // Per soup triangle: placed by the fold cut's unfolding rather than by
+  // the transfer (empty: none); the overlap split gives these way.
+  std::vector<uint8_t> unfolded;
 };
 
 // Twice the signed UV area of triangle t (positive: counter-clockwise in the
