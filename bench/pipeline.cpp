@@ -15,6 +15,9 @@
 //   accuracy          field accuracy charge 1e-4 / tracer p = 5 against the
 //                     defaults:
 //                     per-corner UV shift in texels and both sets of figures.
+//   --corpus DIR      one row per NAME-soup.glb in DIR (e.g. shared/data/corpus,
+//                     kind "corpus"): wall time, uv figures incl. utilisation
+//                     and overlap, the UV solve's counts; then a summary.
 //   default           every sample, then torus-100k. --quick (CI, about a
 //                     minute): one small sphere with a fixed offset.
 //   --seed-weld-corners, --no-reweld, --strict-retry F, --no-grow-while-bad:
@@ -38,6 +41,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <filesystem>
 #include <iostream>
 
 #include "bench_registry.h"
@@ -118,7 +122,7 @@ Timed timed_map(const Soup& soup, const MapOptions& o) {
 
 const char* const kUvKeys[] = {"coverage",   "flipped_fraction",  "stretch_l2", "stretch_median",
                                "stretch_l2_worst1pct_share", "continuity", "continuity_1texel",
-                               "islands"};
+                               "islands", "utilisation", "overlap"};
 
 nlohmann::json row(const Input& in, const std::string& method, const Timed& run) {
   const nlohmann::json& d = run.result.diagnostics;
@@ -349,7 +353,50 @@ nlohmann::json accuracy_row(const Input& in) {
   return r;
 }
 
+// --corpus DIR: one row per NAME-soup.glb in DIR (sorted by name), the
+// default mapping job with its wall time and the figures of eval/uvmetrics.py
+// that need no reference (continuity by welding the soup; the reference
+// scores come from eval/compare.sh).
+int corpus_rows(const std::string& dir, const bench::Args& args) {
+  std::vector<std::string> files;
+  for (const auto& e : std::filesystem::directory_iterator(dir)) {
+    const std::string name = e.path().filename().string();
+    if (name.size() > 9 && name.compare(name.size() - 9, 9, "-soup.glb") == 0) files.push_back(e.path().string());
+  }
+  std::sort(files.begin(), files.end());
+  if (files.empty()) {
+    std::cerr << "pipeline --corpus: no NAME-soup.glb in " << dir << "\n";
+    return 2;
+  }
+  double total = 0;
+  for (const std::string& f : files) {
+    const std::string name = std::filesystem::path(f).filename().string();
+    Input in{name.substr(0, name.size() - 9), io::load_file(f).soup, {}, false, f};
+    std::cerr << "pipeline corpus: " << in.name << " (" << in.soup.triangles.size() << " triangles)\n";
+    MapOptions o;
+    apply_switches(args, o);
+    Timed run = timed_map(in.soup, o);
+    nlohmann::json r = row(in, "field", run);
+    r["kind"] = "corpus";
+    r["source"] = f;
+    if (run.result.diagnostics.contains("uv_solve")) {
+      const auto& u = run.result.diagnostics["uv_solve"];
+      r["uv_solve"] = {{"islands_packed", u["pack"]["islands"]},
+                       {"cut_folds", u["fold_cut"]["cut_triangles"]},
+                       {"overlap_pieces", u["overlap_split"]["pieces_added"]},
+                       {"seconds", u["seconds"]}};
+    }
+    total += run.seconds;
+    bench::emit(r);
+  }
+  bench::emit({{"suite", "pipeline"}, {"kind", "summary"}, {"corpus", dir}, {"soups", files.size()},
+               {"seconds", total}});
+  return 0;
+}
+
 int run_pipeline(const bench::Args& args) {
+  for (size_t i = 0; i + 1 < args.rest.size(); ++i)
+    if (args.rest[i] == "--corpus") return corpus_rows(args.rest[i + 1], args);
   std::string only;
   double offset = 0;  // 0: the pipeline's default offset
   bool repair = true;  // the rows carry the unrepaired figures too

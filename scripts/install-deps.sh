@@ -9,7 +9,7 @@ packages=(
   libeigen3-dev libcgal-dev libgmp-dev libmpfr-dev libboost-dev
   libspdlog-dev libfmt-dev libgtest-dev libgmock-dev libsqlite3-dev libssl-dev
   clang libclang-rt-14-dev libomp-dev
-  chromium nginx-light curl python3-yaml
+  chromium nginx-light curl python3-yaml python3-numpy python3-scipy
 )
 
 SUDO=""

@@ -28,6 +28,10 @@ struct OverlapSplitFigures {
   double cell = 0;
 };
 
+// Sample points (the same rule, spacing `cell`) covered twice or more by
+// the triangles `tris` (counter-clockwise): 0 when they do not overlap.
+size_t overlap_samples(const UvLayout& layout, const std::vector<uint32_t>& tris, double cell);
+
 OverlapSplitFigures split_overlaps(double cell, int threads, UvLayout& layout);
 
 }  // namespace soupuv::uvsolve::detail

@@ -7,6 +7,7 @@
 #include "uvsolve/island_solve.h"
 #include "uvsolve/overlap_split.h"
 #include "uvsolve/pack_islands.h"
+#include "uvsolve/seam_merge.h"
 #include "uvsolve/untangle.h"
 #include "uvsolve/uv_mesh.h"
 
@@ -91,6 +92,31 @@ SoupUvResult solve_soup_uvs(const Soup& soup, const quality::Weld& weld,
                         {"kept_pairs", kept_pairs(pairs, layout)},
                         {"seconds", since(t3)}};
   progress.update("uv_solve", 0.8);
+
+  // Seams the transfer or the split cut where a flat map can close them
+  // are joined, then the joined islands solved and checked again.
+  auto t_merge = Clock::now();
+  const double cell = texel_uv / options.overlap_samples_per_texel;
+  const detail::SeamMergeFigures mf = detail::merge_seams(
+      soup, pairs, cell, uv_per_length, options.collapse_ratio,
+      options.merge_attempts_per_island * size_t(layout.island_count), options.merge_relax_max_triangles,
+      layout);
+  nlohmann::json merge = {{"attempts", mf.attempts},
+                          {"joined", mf.joined},
+                          {"refused_fold", mf.refused_fold},
+                          {"refused_overlap", mf.refused_overlap},
+                          {"islands", layout.island_count},
+                          {"kept_pairs", kept_pairs(pairs, layout)}};
+  if (mf.joined > 0) {
+        const detail::SolveFigures again =
+        detail::solve_islands(soup, uv_per_length, options.solve_iterations, options.threads, layout);
+    const detail::OverlapSplitFigures resplit = detail::split_overlaps(cell, options.threads, layout);
+    merge["solve_energy_after"] = again.energy_after;
+    merge["resplit_pieces"] = resplit.pieces_added;
+    merge["kept_pairs_after_resplit"] = kept_pairs(pairs, layout);
+  }
+  merge["seconds"] = since(t_merge);
+  d["seam_merge"] = merge;
 
   auto t4 = Clock::now();
   const detail::PackFigures pf = detail::pack_islands(layout, options.texture_size, options.padding_px,

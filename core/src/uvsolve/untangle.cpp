@@ -85,6 +85,27 @@ bool arap(const std::vector<std::array<uint32_t, 3>>& tri,
 
 }  // namespace
 
+bool arap_island(const Soup& soup, double uv_per_length, const std::vector<uint32_t>& tris, int iterations,
+                 UvLayout& L) {
+  std::vector<uint32_t> global;
+  for (uint32_t t : tris) global.insert(global.end(), L.corner_vertex[t].begin(), L.corner_vertex[t].end());
+  std::sort(global.begin(), global.end());
+  global.erase(std::unique(global.begin(), global.end()), global.end());
+  std::vector<std::array<uint32_t, 3>> local(tris.size());
+  std::vector<transfer::detail::RestTriangle> rest(tris.size());
+  for (size_t j = 0; j < tris.size(); ++j) {
+    for (int k = 0; k < 3; ++k)
+      local[j][k] = uint32_t(std::lower_bound(global.begin(), global.end(), L.corner_vertex[tris[j]][k]) - global.begin());
+    rest[j] = transfer::detail::rest_triangle(soup.corner(tris[j], 0), soup.corner(tris[j], 1),
+                                              soup.corner(tris[j], 2), uv_per_length, 1.0);
+  }
+  std::vector<Vec2> uv(global.size());
+  for (size_t v = 0; v < global.size(); ++v) uv[v] = L.uv[global[v]];
+  if (!arap(local, rest, iterations, uv)) return false;
+  for (size_t v = 0; v < global.size(); ++v) L.uv[global[v]] = uv[v];
+  return true;
+}
+
 UntangleFigures untangle_islands(const Soup& soup, double uv_per_length, double collapse_ratio,
                                  int iterations, int threads, UvLayout& L) {
   UntangleFigures f;

@@ -36,6 +36,11 @@ size_t orient_islands(const Soup& soup, UvLayout& layout);
 bool is_folded(const Soup& soup, double uv_per_length, double collapse_ratio, const UvLayout& layout,
                size_t t);
 
+// The same ARAP iterations on one island (its triangles), in place; false
+// if the solve failed (the layout is then unchanged).
+bool arap_island(const Soup& soup, double uv_per_length, const std::vector<uint32_t>& tris, int iterations,
+                 UvLayout& layout);
+
 UntangleFigures untangle_islands(const Soup& soup, double uv_per_length, double collapse_ratio,
                                  int iterations, int threads, UvLayout& layout);
 

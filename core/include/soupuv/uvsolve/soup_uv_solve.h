@@ -20,7 +20,10 @@
 //         4. Overlap split (overlap_split.h): an island whose image laps over
 //            itself, or where different surfaces landed on one place, is
 //            split into pieces that do not.
-//         5. Pack (pack_islands.h): the bitmap packer at one density.
+//         5. Seam merge (seam_merge.h): islands joined across seams where
+//            the joined map neither folds nor overlaps; solved and split
+//            again.
+//         6. Pack (pack_islands.h): the bitmap packer at one density.
 // Cost  : O(n log n) besides the solve's sparse factorisations.
 #pragma once
 
@@ -43,6 +46,11 @@ struct SoupUvOptions {
   double collapse_ratio = 0.05;
   int untangle_iterations = 8; // ARAP iterations on islands with a fold
   int solve_iterations = 10;   // SLIM iterations per island at most
+  // Seam joins tried per island at most (the longest seams first).
+  size_t merge_attempts_per_island = 4;
+  // A join that folds is relaxed (ARAP) when the joined island has at most
+  // this many triangles (each relaxation is a sparse solve of its size).
+  size_t merge_relax_max_triangles = 20000;
   // Overlap samples per texel side (2: half-texel spacing).
   double overlap_samples_per_texel = 2;
   int threads = 1;

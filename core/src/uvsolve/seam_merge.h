@@ -1,0 +1,38 @@
+// Joins islands across the seams between them (private to the UV solve).
+//
+// Input : the soup, its weld's adjacent pairs (quality::edge_adjacency), a
+//         layout whose islands are flattened and overlap-free, the sample
+//         spacing of overlap_split.h, the collapse ratio (untangle.h) and an
+//         attempt budget.
+// Output: islands joined where the transfer or the splits cut a seam that a
+//         flat map can close: for each pair of islands that share welded
+//         edges (longest shared seam first), the smaller is turned and moved
+//         rigidly onto the larger (2D Procrustes on the shared corners), the
+//         shared corners become one vertex at their mean (where that folds a
+//         triangle, joined islands of at most max_relax_triangles are relaxed
+//         as rigidly as possible, untangle.h), and the join is kept only if
+//         no triangle of the two folds or collapses and the joined island
+//         covers no sample twice. A later solve (island_solve.h)
+//         smooths the stretch the join left along the seam.
+// Cost  : per attempt O(the two islands' triangles + their samples).
+#pragma once
+
+#include <cstddef>
+#include <vector>
+
+#include "soupuv/quality/weld.h"
+#include "uvsolve/uv_layout.h"
+
+namespace soupuv::uvsolve::detail {
+
+struct SeamMergeFigures {
+  size_t attempts = 0;
+  size_t joined = 0;
+  size_t refused_fold = 0, refused_overlap = 0;
+};
+
+SeamMergeFigures merge_seams(const Soup& soup, const std::vector<quality::AdjacentPair>& pairs,
+                             double cell, double uv_per_length, double collapse_ratio, size_t max_attempts,
+                             size_t max_relax_triangles, UvLayout& layout);
+
+}  // namespace soupuv::uvsolve::detail

@@ -1,0 +1,179 @@
+// The soup UV solve's promises, on soups whose "transferred" maps are made
+// here with known defects: no flipped triangle, no overlap, the square used,
+// and continuity kept wherever the input map was continuous and sound.
+#include "soupuv/uvsolve/soup_uv_solve.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <functional>
+
+#include "soupuv/quality/uv_overlap.h"
+#include "soupuv/quality/weld.h"
+
+namespace soupuv {
+namespace {
+
+using CornerUvs = std::vector<std::array<Vec2, 3>>;
+
+// An n x n grid of unit cells, as a soup, placed in 3D by `place` (u, v in
+// cell units) and mapped to UV by `map`.
+struct Case {
+  Soup soup;
+  CornerUvs uv;
+};
+
+void add_grid(Case& c, int n, const std::function<Vec3(double, double)>& place,
+              const std::function<Vec2(double, double)>& map) {
+  auto add = [&](double u, double v) {
+    c.soup.positions.push_back(place(u, v));
+    return uint32_t(c.soup.positions.size() - 1);
+  };
+  for (int j = 0; j < n; ++j)
+    for (int i = 0; i < n; ++i) {
+      const double u[4] = {double(i), i + 1.0, i + 1.0, double(i)}, v[4] = {double(j), double(j), j + 1.0, j + 1.0};
+      for (const auto& q : {std::array<int, 3>{0, 1, 2}, std::array<int, 3>{0, 2, 3}}) {
+        Tri t;
+        std::array<Vec2, 3> w;
+        for (int k = 0; k < 3; ++k) {
+          t[k] = add(u[q[k]], v[q[k]]);
+          w[k] = map(u[q[k]], v[q[k]]);
+        }
+        c.soup.triangles.push_back(t);
+        c.soup.origins.push_back({});
+        c.uv.push_back(w);
+      }
+    }
+}
+
+struct Solved {
+  CornerUvs uv;
+  nlohmann::json diagnostics;
+  std::vector<quality::AdjacentPair> pairs;
+};
+
+Solved solve(const Case& c, double uv_per_length) {
+  const quality::Weld weld = quality::weld_corners(c.soup, 1e-9);
+  const std::vector<int> chart(3 * c.soup.triangles.size(), 0);
+  uvsolve::SoupUvOptions o;
+  o.threads = 2;
+  uvsolve::SoupUvResult r = uvsolve::solve_soup_uvs(c.soup, weld, c.uv, chart, uv_per_length, 1.0 / 1024, o,
+                                                    Progress::none());
+  return {std::move(r.corner_uvs), std::move(r.diagnostics), quality::edge_adjacency(weld, c.soup.triangles.size())};
+}
+
+double signed_area(const std::array<Vec2, 3>& p) { return 0.5 * cross(p[1] - p[0], p[2] - p[0]); }
+
+// A pair is continuous when its two shared corners have the same UVs.
+bool continuous(const CornerUvs& uv, const quality::AdjacentPair& p) {
+  for (int i = 0; i < 2; ++i)
+    if (norm(uv[p.a][p.a_corner[i]] - uv[p.b][p.b_corner[i]]) > 1e-9) return false;
+  return true;
+}
+
+void expect_sound(const Case& c, const CornerUvs& uv) {
+  ASSERT_EQ(uv.size(), c.soup.triangles.size());
+  size_t flipped = 0;
+  for (const auto& t : uv) {
+    for (const Vec2& p : t) {
+      EXPECT_GE(p.x, 0.0);
+      EXPECT_LE(p.x, 1.0);
+      EXPECT_GE(p.y, 0.0);
+      EXPECT_LE(p.y, 1.0);
+    }
+    flipped += !(signed_area(t) > 0);
+  }
+  EXPECT_EQ(flipped, 0u) << "every triangle keeps the soup's orientation, with area";
+  const quality::UvOverlap o = quality::uv_overlap(uv, std::vector<uint8_t>(uv.size(), 1));
+  EXPECT_LE(o.overlap, 1e-3);
+}
+
+TEST(SoupUvSolve, ContinuousFlatMapStaysOneIsland) {
+  Case c;
+  add_grid(c, 12, [](double u, double v) { return Vec3{u, v, 0}; }, [](double u, double v) { return Vec2{0.01 * u, 0.01 * v}; });
+  const Solved s = solve(c, 0.01);
+  expect_sound(c, s.uv);
+  for (const auto& p : s.pairs) EXPECT_TRUE(continuous(s.uv, p));
+  EXPECT_EQ(s.diagnostics["pack"]["islands"], 1);
+  const quality::UvOverlap o = quality::uv_overlap(s.uv, std::vector<uint8_t>(s.uv.size(), 1));
+  EXPECT_GE(o.utilisation, 0.55) << "one square island fills most of the square";
+}
+
+TEST(SoupUvSolve, StretchedStartIsFlattenedToItsShape) {
+  // The map squeezes v by 4: SLIM brings the triangles back near isometry.
+  Case c;
+  add_grid(c, 10, [](double u, double v) { return Vec3{u, v, 0}; }, [](double u, double v) { return Vec2{0.01 * u, 0.0025 * v}; });
+  const Solved s = solve(c, 0.01);
+  expect_sound(c, s.uv);
+  double ratio_min = INFINITY, ratio_max = 0;
+  for (size_t t = 0; t < s.uv.size(); ++t) {
+    const double r = signed_area(s.uv[t]) / triangle_area(c.soup, t);
+    ratio_min = std::min(ratio_min, r);
+    ratio_max = std::max(ratio_max, r);
+  }
+  EXPECT_LT(ratio_max / ratio_min, 1.2) << "one texel density over the island after the solve";
+}
+
+TEST(SoupUvSolve, FoldIsUndoneOrCutAndNothingFlips) {
+  // A band of columns mapped mirrored: a fold with flipped triangles.
+  Case c;
+  add_grid(c, 16, [](double u, double v) { return Vec3{u, v, 0}; },
+           [](double u, double v) { return Vec2{0.01 * (u < 7 ? u : u < 9 ? 14 - u : u - 4), 0.01 * v}; });
+  size_t flipped_in = 0;
+  for (const auto& t : c.uv) flipped_in += !(signed_area(t) > 0);
+  ASSERT_GT(flipped_in, 0u);
+  const Solved s = solve(c, 0.01);
+  expect_sound(c, s.uv);
+  // Pairs away from the fold (both triangles in columns < 6 or >= 10) stay
+  // continuous.
+  size_t away = 0, kept = 0;
+  auto column = [&](uint32_t t) { return (t / 2) % 16; };
+  for (const auto& p : s.pairs)
+    if ((column(p.a) < 6 && column(p.b) < 6) || (column(p.a) >= 10 && column(p.b) >= 10)) {
+      ++away;
+      kept += continuous(s.uv, p);
+    }
+  EXPECT_GT(away, 0u);
+  EXPECT_GE(double(kept) / double(away), 0.95);
+}
+
+TEST(SoupUvSolve, SurfacesLandingOnOnePlaceGetTheirOwnTexels) {
+  // A sheet folded over itself (a U: two layers 0.5 apart, joined by a strip
+  // of two cells), mapped by projection: both layers land on one place, as
+  // a hidden part lands on the proxy region of the part that hides it.
+  Case c;
+  const int n = 10;
+  add_grid(c, n, [](double u, double v) { return Vec3{u, v, 0}; }, [](double u, double v) { return Vec2{0.01 * u, 0.01 * v}; });
+  add_grid(c, n, [](double u, double v) { return Vec3{u, v, 0.5}; }, [](double u, double v) { return Vec2{0.01 * u, 0.01 * v}; });
+  const Solved s = solve(c, 0.01);
+  expect_sound(c, s.uv);
+  // Each layer keeps most of its own pairs.
+  for (uint32_t layer = 0; layer < 2; ++layer) {
+    size_t in = 0, kept = 0;
+    for (const auto& p : s.pairs)
+      if (p.a / (2 * n * n) == layer && p.b / (2 * n * n) == layer) {
+        ++in;
+        kept += continuous(s.uv, p);
+      }
+    EXPECT_GT(in, 0u);
+    EXPECT_GE(double(kept) / double(in), 0.95) << "layer " << layer;
+  }
+}
+
+TEST(SoupUvSolve, ManyIslandsArePackedWithoutOverlapAndUseTheSquare) {
+  // 300 separate patches of 1 to 4 cells a side, all mapped onto one spot.
+  Case c;
+  for (int k = 0; k < 300; ++k) {
+    const int n = 1 + k % 4;
+    const double x0 = 10.0 * k;
+    add_grid(c, n, [x0](double u, double v) { return Vec3{x0 + u, v, 0}; }, [](double u, double v) { return Vec2{0.01 * u, 0.01 * v}; });
+  }
+  const Solved s = solve(c, 0.01);
+  expect_sound(c, s.uv);
+  for (const auto& p : s.pairs) EXPECT_TRUE(continuous(s.uv, p));
+  const quality::UvOverlap o = quality::uv_overlap(s.uv, std::vector<uint8_t>(s.uv.size(), 1));
+  EXPECT_GE(o.utilisation, 0.55);
+}
+
+}  // namespace
+}  // namespace soupuv
