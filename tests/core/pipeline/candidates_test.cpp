@@ -65,6 +65,7 @@ class CandidateSearch : public ::testing::Test {
     o.threads = 2;
     o.cache = &store;
     o.candidates = fox_list();
+    o.soup_uv_solve = false;  // the search belongs to the previous UV chain
   }
   const Soup soup = fox();
   cache::Store store;
