@@ -61,6 +61,8 @@ const std::vector<Option>& options() {
        [](Config& c, const std::string& v) { c.max_upload_bytes = parse_int("max-upload-bytes", v, 1, int64_t(1) << 40); }},
       {"job-timeout", "wall-clock seconds per job attempt (default 600)",
        [](Config& c, const std::string& v) { c.job_timeout_s = int(parse_int("job-timeout", v, 1, 7 * 86400)); }},
+      {"max-attempts", "runs of a job whose worker crashed, was killed or was lost with the server, before it fails (default 3)",
+       [](Config& c, const std::string& v) { c.max_attempts = int(parse_int("max-attempts", v, 1, 100)); }},
       {"result-ttl", "seconds finished jobs and their files are kept (default 86400)",
        [](Config& c, const std::string& v) { c.result_ttl_s = int(parse_int("result-ttl", v, 1, 365 * 86400)); }},
       {"worker-memory-mb", "address-space limit of each worker process (default 8192)",

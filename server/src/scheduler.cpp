@@ -52,11 +52,17 @@ WorkerVerdict classify_outcome(const ProcessOutcome& o, const std::string& reaso
             JobError{"timeout", 504, "job exceeded its wall-clock limit of " +
                                          std::to_string(config.job_timeout_s) + " s"}};
   if (o.signal != 0) {
-    if (o.signal == SIGXCPU || o.signal == SIGKILL)
-      return {JobState::failed, JobError{"resource_limit", 500,
-                                         "worker stopped by signal " + std::to_string(o.signal) +
-                                             " (CPU-time or memory limit)"}};
-    return {JobState::failed, JobError{"crashed", 500, "worker crashed with signal " + std::to_string(o.signal)}};
+    // RLIMIT_CPU: the job's own budget, the same on every run.
+    if (o.signal == SIGXCPU)
+      return {JobState::failed, JobError{"resource_limit", 500, "worker stopped by signal " +
+                                                                   std::to_string(o.signal) + " (CPU-time limit)"}};
+    // SIGKILL we did not send: the kernel's OOM killer (or an operator), which
+    // depends on what else ran at the time, so another attempt may succeed.
+    if (o.signal == SIGKILL)
+      return {JobState::failed,
+              JobError{"resource_limit", 500, "worker killed by signal 9 (out of memory?)"}, true};
+    return {JobState::failed, JobError{"crashed", 500, "worker crashed with signal " + std::to_string(o.signal)},
+            true};
   }
   if (o.exit_code == 0) return {JobState::succeeded, std::nullopt};
   if (o.exit_code == 130) return {JobState::canceled, std::nullopt};
@@ -118,14 +124,31 @@ bool Scheduler::has_room() const {
 
 size_t Scheduler::recover() {
   auto jobs = store_.unfinished();
-  {
-    std::lock_guard lock(mu_);
-    for (const auto& j : jobs) queue_.push_back(j.id);
+  size_t requeued = 0;
+  for (const auto& j : jobs) {
+    // A job running when the server died has used an attempt (mark_running
+    // counted it); one that keeps taking the server down must not loop forever.
+    if (j.state == JobState::running && j.attempts >= config_.max_attempts) {
+      const std::string detail = "the job was interrupted on each of its " + std::to_string(j.attempts) +
+                                 " attempts (the server stopped or was killed while it ran)";
+      if (!store_write("finish", [&] {
+            store_.finish(j.id, JobState::failed, JobError{"interrupted", 500, detail}, {}, now_seconds());
+          }))
+        continue;  // stays running in the store; the next start decides again
+      remove_work_dir(j.id);
+      metrics_.job_finished("failed");
+      log::warn("job failed at recovery", {{"job", j.id}, {"attempts", j.attempts}});
+      continue;
+    }
+    {
+      std::lock_guard lock(mu_);
+      queue_.push_back(j.id);
+    }
+    ++requeued;
+    log::info("job recovered", {{"job", j.id}, {"was", to_string(j.state)}, {"attempts", j.attempts}});
   }
   cv_.notify_all();
-  for (const auto& j : jobs)
-    log::info("job recovered", {{"job", j.id}, {"was", to_string(j.state)}, {"attempts", j.attempts}});
-  return jobs.size();
+  return requeued;
 }
 
 bool Scheduler::cancel(const std::string& id) {
@@ -155,6 +178,27 @@ int Scheduler::busy_workers() const {
   return int(running_.size());
 }
 
+bool Scheduler::store_write(const char* what, const std::function<void()>& write) {
+  std::string last;
+  for (int delay_ms = 100; delay_ms <= 1600; delay_ms *= 2) {
+    try {
+      write();
+      return true;
+    } catch (const std::exception& e) {
+      last = e.what();
+    }
+    std::this_thread::sleep_for(std::chrono::milliseconds(delay_ms));
+  }
+  log::error("job store write failed", {{"write", what}, {"error", last}});
+  return false;
+}
+
+void Scheduler::remove_work_dir(const std::string& id) noexcept {
+  if (!is_valid_job_id(id)) return;
+  std::error_code ec;
+  fs::remove_all(data_.root() / "jobs" / id / "work", ec);
+}
+
 void Scheduler::worker_loop() {
   for (;;) {
     std::string id;
@@ -166,12 +210,19 @@ void Scheduler::worker_loop() {
       queue_.pop_front();
       running_[id] = std::make_shared<std::atomic<bool>>(false);
     }
+    // Nothing may escape this thread (std::terminate would take every job
+    // down): run_job's errors fail the job, and if even that cannot be
+    // recorded the job stays unfinished in the store for the next start.
     try {
       run_job(id);
     } catch (const std::exception& e) {
       log::error("job supervision failed", {{"job", id}, {"error", e.what()}});
-      store_.finish(id, JobState::failed, JobError{"internal", 500, "server error while running the job"},
-                    {}, now_seconds());
+      if (store_write("finish", [&] {
+            store_.finish(id, JobState::failed, JobError{"internal", 500, "server error while running the job"},
+                          {}, now_seconds());
+          }))
+        metrics_.job_finished("failed");
+      remove_work_dir(id);
     }
     std::lock_guard lock(mu_);
     running_.erase(id);
@@ -249,7 +300,9 @@ void Scheduler::run_job(const std::string& id) {
     auto j = nlohmann::json::parse(line, nullptr, false);
     if (!j.is_object() || !j.contains("stage") || !j["stage"].is_string()) return;
     std::string s = clean_stage(j["stage"].get<std::string>());
-    double f = j.value("fraction", 0.0);
+    // The worker's text is not trusted to be well formed: a fraction that is
+    // not a number counts as 0 (json::value would throw on it).
+    double f = j.contains("fraction") && j["fraction"].is_number() ? j["fraction"].get<double>() : 0.0;
     if (!std::isfinite(f)) f = 0;
     double now = now_seconds();
     if (s != stage) {
@@ -263,8 +316,13 @@ void Scheduler::run_job(const std::string& id) {
       last_write = 0;  // a new stage is always worth recording
     }
     if (now - last_write >= 0.2) {  // progress is chatty; the store needs ~5 Hz at most
-      store_.update_progress(id, stage, std::clamp(f, 0.0, 1.0), stage_seconds);
       last_write = now;
+      // Progress is advisory: a failed write must not stop the job.
+      try {
+        store_.update_progress(id, stage, std::clamp(f, 0.0, 1.0), stage_seconds);
+      } catch (const std::exception& e) {
+        log::warn("progress not recorded", {{"job", id}, {"error", e.what()}});
+      }
     }
   };
   ProcessOutcome outcome = run_process(argv, env, limits, *cancel, on_line, (work / "stdout.log").string());
@@ -272,7 +330,11 @@ void Scheduler::run_job(const std::string& id) {
     double secs = now_seconds() - stage_started;
     stage_seconds[stage] = stage_seconds.value(stage, 0.0) + secs;
     metrics_.stage_seconds(stage, secs);
-    store_.update_progress(id, stage, 1.0, stage_seconds);
+    try {
+      store_.update_progress(id, stage, 1.0, stage_seconds);
+    } catch (const std::exception& e) {
+      log::warn("progress not recorded", {{"job", id}, {"error", e.what()}});
+    }
   }
   write_file_atomic(dir / "worker.log", outcome.stderr_tail);
 
@@ -285,6 +347,21 @@ void Scheduler::run_job(const std::string& id) {
       auto fresh = store_.get(id);
       if (fresh && !fresh->cancel_requested) return;
     }
+  }
+  const int attempt = job->attempts + 1;
+  if (verdict.retryable && verdict.error) {
+    if (attempt < config_.max_attempts) {
+      fs::remove_all(work);
+      log::warn("job attempt failed, retrying",
+                {{"job", id}, {"attempt", attempt}, {"error", verdict.error->detail}});
+      store_.requeue(id);
+      std::lock_guard lock(mu_);
+      // Behind the jobs already waiting: a poison job must not monopolise a worker.
+      if (!stopping_) queue_.push_back(id);
+      cv_.notify_one();
+      return;
+    }
+    if (attempt > 1) verdict.error->detail += " (on each of " + std::to_string(attempt) + " attempts)";
   }
   std::vector<std::string> outputs;
   if (verdict.state == JobState::succeeded) {

@@ -54,6 +54,12 @@ class SnapshotJobStore final : public JobStore {
     refresh(id);
   }
 
+  void requeue(const std::string& id) override {
+    std::lock_guard w(write_mu_);
+    durable_->requeue(id);
+    refresh(id);
+  }
+
   void update_progress(const std::string& id, const std::string& stage, double fraction,
                        const nlohmann::json& stage_seconds) override {
     std::lock_guard w(write_mu_);

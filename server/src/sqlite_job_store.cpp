@@ -173,6 +173,12 @@ class SqliteJobStore final : public JobStore {
     s.bind(1, at).bind(2, id).step();
   }
 
+  void requeue(const std::string& id) override {
+    std::lock_guard lock(mu_);
+    Stmt s(db_, "UPDATE jobs SET state='queued', stage='', fraction=0, stage_seconds='{}' WHERE id=?");
+    s.bind(1, id).step();
+  }
+
   void update_progress(const std::string& id, const std::string& stage, double fraction,
                        const nlohmann::json& stage_seconds) override {
     std::lock_guard lock(mu_);

@@ -60,6 +60,39 @@ double since(Clock::time_point t0) { return std::chrono::duration<double>(Clock:
   _exit(127);
 }
 
+// Owns a started worker until it is reaped. Whatever way run_process is left
+// (normal end, or an exception from the line callback or the allocator), the
+// worker's whole process group is killed and the worker reaped before the
+// caller's slot can start another job, and the stderr pipe is closed.
+class ChildGuard {
+ public:
+  ChildGuard(pid_t pid, int pipe_fd) : pid_(pid), pipe_(pipe_fd) {}
+  ChildGuard(const ChildGuard&) = delete;
+  ChildGuard& operator=(const ChildGuard&) = delete;
+  ~ChildGuard() {
+    if (!reaped_) {
+      kill(-pid_, SIGKILL);
+      kill(pid_, SIGKILL);  // in case setpgid lost a race and it has no group yet
+      int status;
+      while (waitpid(pid_, &status, 0) < 0 && errno == EINTR) {
+      }
+    }
+    close(pipe_);
+  }
+  int pipe() const { return pipe_; }
+  bool reaped() const { return reaped_; }
+  // Non-blocking wait; true once the worker has exited (status filled).
+  bool try_reap(int& status) {
+    if (!reaped_ && waitpid(pid_, &status, WNOHANG) == pid_) reaped_ = true;
+    return reaped_;
+  }
+
+ private:
+  pid_t pid_;
+  int pipe_;
+  bool reaped_ = false;
+};
+
 }  // namespace
 
 ProcessOutcome run_process(const std::vector<std::string>& args, const std::vector<std::string>& extra_env,
@@ -112,32 +145,34 @@ ProcessOutcome run_process(const std::vector<std::string>& args, const std::vect
   close(pipefd[1]);
   close(stdout_fd);
   out.started = true;
+  ChildGuard child(pid, pipefd[0]);
 
   std::string partial;
   bool eof = false, term_sent = false, kill_sent = false;
   Clock::time_point term_at{};
   auto signal_group = [&](int sig) { kill(-pid, sig); };
   int status = 0;
-  bool reaped = false;
-  while (!reaped) {
+  while (!child.reaped()) {
     if (!eof) {
-      pollfd p{pipefd[0], POLLIN, 0};
+      pollfd p{child.pipe(), POLLIN, 0};
       int rc = poll(&p, 1, 100);
       if (rc > 0) {
         char buf[8192];
-        ssize_t n = read(pipefd[0], buf, sizeof buf);
+        ssize_t n = read(child.pipe(), buf, sizeof buf);
         if (n > 0) {
           out.stderr_tail.append(buf, size_t(n));
           if (out.stderr_tail.size() > 16384) out.stderr_tail.erase(0, out.stderr_tail.size() - 8192);
           partial.append(buf, size_t(n));
           size_t nl;
           while ((nl = partial.find('\n')) != std::string::npos) {
-            on_line(partial.substr(0, nl));
+            std::string line = partial.substr(0, nl);
             partial.erase(0, nl + 1);
+            on_line(line);  // may throw: `child` then kills and reaps the worker
           }
           if (partial.size() > 65536) {  // a runaway line without newline
-            on_line(partial.substr(0, 65536));
+            std::string line = partial.substr(0, 65536);
             partial.clear();
+            on_line(line);
           }
         } else if (n == 0 || (n < 0 && errno != EINTR && errno != EAGAIN)) {
           eof = true;
@@ -146,11 +181,7 @@ ProcessOutcome run_process(const std::vector<std::string>& args, const std::vect
     } else {
       usleep(20000);
     }
-    pid_t w = waitpid(pid, &status, WNOHANG);
-    if (w == pid) {
-      reaped = true;
-      break;
-    }
+    if (child.try_reap(status)) break;
     if (!term_sent) {
       if (cancel.load()) {
         out.canceled = true;
@@ -170,21 +201,21 @@ ProcessOutcome run_process(const std::vector<std::string>& args, const std::vect
   // Anything the worker left behind in its group goes too, before draining
   // (a surviving grandchild could otherwise hold the pipe open forever).
   kill(-pid, SIGKILL);
-  fcntl(pipefd[0], F_SETFL, fcntl(pipefd[0], F_GETFL) | O_NONBLOCK);
+  fcntl(child.pipe(), F_SETFL, fcntl(child.pipe(), F_GETFL) | O_NONBLOCK);
   for (;;) {
     char buf[8192];
-    ssize_t n = read(pipefd[0], buf, sizeof buf);
+    ssize_t n = read(child.pipe(), buf, sizeof buf);
     if (n <= 0) break;
     partial.append(buf, size_t(n));
     out.stderr_tail.append(buf, size_t(n));
   }
   size_t nl;
   while ((nl = partial.find('\n')) != std::string::npos) {
-    on_line(partial.substr(0, nl));
+    std::string line = partial.substr(0, nl);
     partial.erase(0, nl + 1);
+    on_line(line);
   }
   if (!partial.empty()) on_line(partial);
-  close(pipefd[0]);
   out.seconds = since(t0);
   if (WIFEXITED(status)) out.exit_code = WEXITSTATUS(status);
   if (WIFSIGNALED(status)) out.signal = WTERMSIG(status);

@@ -186,4 +186,34 @@ nlohmann::json wait_finished(httplib::Client& c, const std::string& id, double t
   return last;
 }
 
+nlohmann::json wait_state(httplib::Client& c, const std::string& id, const std::string& state, double timeout_s) {
+  auto deadline = std::chrono::steady_clock::now() + std::chrono::duration<double>(timeout_s);
+  nlohmann::json j;
+  while (std::chrono::steady_clock::now() < deadline) {
+    auto r = c.Get(("/v1/jobs/" + id).c_str());
+    if (r && r->status == 200) {
+      j = nlohmann::json::parse(r->body);
+      if (j["state"] == state) return j;
+    }
+    std::this_thread::sleep_for(std::chrono::milliseconds(50));
+  }
+  return j;
+}
+
+std::unique_ptr<ServerProcess> with_double(const std::string& name, const std::string& mode,
+                                           std::vector<std::string> args, const std::string& seconds,
+                                           std::vector<std::string> env) {
+  std::vector<std::string> a = {"--worker-bin", SOUPUV_WORKER_DOUBLE, "--validate-uploads", "false"};
+  a.insert(a.end(), args.begin(), args.end());
+  env.push_back("SOUPUV_TEST_WORKER_MODE=" + mode);
+  env.push_back("SOUPUV_TEST_WORKER_SECONDS=" + seconds);
+  return std::make_unique<ServerProcess>(fresh_dir(name), a, env);
+}
+
+std::string submit_box(httplib::Client& c, const httplib::Headers& headers) {
+  auto r = submit(c, read_bytes(shared_data("gltf/Box.glb")), "model/gltf-binary", "", headers);
+  if (!r || r->status != 202) return "";
+  return nlohmann::json::parse(r->body)["id"];
+}
+
 }  // namespace soupuv::test

@@ -15,38 +15,6 @@ using namespace soupuv::test;
 using nlohmann::json;
 namespace fs = std::filesystem;
 
-namespace {
-
-std::unique_ptr<ServerProcess> with_double(const std::string& name, const std::string& mode, std::vector<std::string> args = {},
-                                           const std::string& seconds = "30") {
-  std::vector<std::string> a = {"--worker-bin", SOUPUV_WORKER_DOUBLE, "--validate-uploads", "false"};
-  a.insert(a.end(), args.begin(), args.end());
-  return std::make_unique<ServerProcess>(fresh_dir(name), a,
-                                         std::vector<std::string>{"SOUPUV_TEST_WORKER_MODE=" + mode,
-                                                                  "SOUPUV_TEST_WORKER_SECONDS=" + seconds});
-}
-
-std::string submit_box(httplib::Client& c) {
-  auto r = submit(c, read_bytes(shared_data("gltf/Box.glb")), "model/gltf-binary");
-  if (!r || r->status != 202) return "";
-  return json::parse(r->body)["id"];
-}
-
-json wait_state(httplib::Client& c, const std::string& id, const std::string& state, double timeout_s = 20) {
-  auto deadline = std::chrono::steady_clock::now() + std::chrono::duration<double>(timeout_s);
-  json j;
-  while (std::chrono::steady_clock::now() < deadline) {
-    auto r = c.Get(("/v1/jobs/" + id).c_str());
-    if (r && r->status == 200) {
-      j = json::parse(r->body);
-      if (j["state"] == state) return j;
-    }
-    std::this_thread::sleep_for(std::chrono::milliseconds(50));
-  }
-  return j;
-}
-
-}  // namespace
 
 TEST(Supervision, WallClockTimeoutFailsTheJobWithAReason) {
   auto s = with_double("timeout", "slow", {"--job-timeout", "2"});

@@ -6,6 +6,7 @@
 #   slow  - progress for SOUPUV_TEST_WORKER_SECONDS (default 30) then copy input
 #   crash - killed by SIGSEGV      hang - ignores SIGTERM, sleeps
 #   fail  - "soupuv: ..." and exit 3 (invalid input)
+#   badprogress - a progress line whose fraction is not a number, then as slow
 case "$1" in
   --help) echo "usage: soupuv map IN -o OUT --diagnostics D --progress json --method M --texture-size N; soupuv inspect IN"; exit 0 ;;
   inspect) echo '{"triangles":1}'; exit 0 ;;
@@ -30,6 +31,7 @@ case "$mode" in
   hang) trap '' TERM; while :; do sleep 1; done ;;
 esac
 trap 'exit 130' TERM
+[ "$mode" = badprogress ] && echo '{"stage":"wait","fraction":"half"}' >&2
 i=0
 while [ "$i" -lt "$secs" ]; do
   echo "{\"stage\":\"wait\",\"fraction\":0.$i}" >&2

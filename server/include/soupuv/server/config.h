@@ -25,6 +25,9 @@ struct Config {
   int queue_capacity = 50;              // queued (not running) jobs
   int64_t max_upload_bytes = 256ll << 20;
   int job_timeout_s = 600;              // wall clock per job attempt
+  // Runs of one job before it fails for good when its worker crashes, is
+  // killed from outside (OOM killer) or is lost with the server.
+  int max_attempts = 3;
   int result_ttl_s = 86400;             // finished jobs and their files
   int64_t worker_memory_mb = 8192;      // RLIMIT_AS per worker
   std::string tokens_file;              // empty: no authentication

@@ -30,6 +30,8 @@ class JobStore {
   virtual JobPage list(std::optional<JobState> state, int limit, const std::string& cursor) = 0;
 
   virtual void mark_running(const std::string& id, double at) = 0;  // attempts += 1
+  // Back to queued for another attempt (attempts kept, progress cleared).
+  virtual void requeue(const std::string& id) = 0;
   virtual void update_progress(const std::string& id, const std::string& stage, double fraction,
                                const nlohmann::json& stage_seconds) = 0;
   virtual void finish(const std::string& id, JobState state, const std::optional<JobError>& error,

@@ -38,6 +38,8 @@ struct ProcessOutcome {
 
 // Runs to completion. `on_line` gets each stderr line (without newline, capped
 // at 64 KiB). `cancel` is polled every 100 ms. `stdout_path`, if set, receives stdout.
+// Exception-safe: if `on_line` throws, the worker's process group is killed and
+// the worker reaped before the exception leaves run_process.
 ProcessOutcome run_process(const std::vector<std::string>& argv, const std::vector<std::string>& extra_env,
                            const ProcessLimits& limits, const std::atomic<bool>& cancel,
                            const std::function<void(const std::string&)>& on_line,
