@@ -9,6 +9,7 @@
 #include "soupuv/server/cache_prune.h"
 #include "soupuv/server/log.h"
 #include "soupuv/server/problem.h"
+#include "soupuv/server/storage.h"
 
 namespace soupuv::server {
 namespace fs = std::filesystem;
@@ -166,6 +167,11 @@ void App::sweep_loop() {
       if (pruned.files_removed > 0)
         log::info("field cache pruned", {{"files", pruned.files_removed}, {"bytes_before", pruned.bytes_before},
                                          {"bytes_after", pruned.bytes_after}});
+      // Half-written cache entries and temp files of killed workers; older
+      // than any attempt may run, so no live write is touched.
+      const auto temp_age = std::chrono::seconds(std::max(3600, ctx_.config.job_timeout_s + 60));
+      if (int n = sweep_stale_temp_files(ctx_.data->root(), temp_age); n > 0)
+        log::info("stale temp files removed", {{"files", n}});
       // Uploads interrupted mid-stream (client gone, server killed).
       std::error_code ec;
       for (const auto& e : fs::directory_iterator(ctx_.data->uploads_tmp(), ec)) {

@@ -81,6 +81,8 @@ const std::vector<Option>& options() {
        [](Config& c, const std::string& v) { c.http_threads = int(parse_int("http-threads", v, 2, 1024)); }},
       {"max-uploads", "uploads in flight at once, beyond: 503 + Retry-After (default: half the HTTP threads)",
        [](Config& c, const std::string& v) { c.max_uploads = int(parse_int("max-uploads", v, 1, 1024)); }},
+      {"min-free-mb", "free space the data directory keeps; below it uploads get 503 and /readyz fails (default 512)",
+       [](Config& c, const std::string& v) { c.min_free_mb = parse_int("min-free-mb", v, 0, int64_t(1) << 40); }},
       {"validate-uploads", "check each upload with `soupuv inspect` before queueing (default true)",
        [](Config& c, const std::string& v) { c.validate_uploads = parse_bool("validate-uploads", v); }},
       {"log-level", "trace, debug, info, warn, error (default info)",

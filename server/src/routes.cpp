@@ -14,6 +14,7 @@
 #include "soupuv/server/http_server.h"
 #include "soupuv/server/log.h"
 #include "soupuv/server/problem.h"
+#include "soupuv/server/storage.h"
 #include "soupuv/server/upload_check.h"
 #include "soupuv/server/worker_process.h"
 
@@ -171,6 +172,16 @@ void submit_job(ServerContext& ctx, const httplib::Request& req, httplib::Respon
   if (ctx.uploads_in_flight.fetch_add(1) >= ctx.config.upload_slots()) {
     res.set_header("Retry-After", "1");
     return set_problem(res, 503, "uploads-busy", "too many uploads in progress; retry after the indicated seconds");
+  }
+  // A full disk is a refusal, not a failed job later: the upload, its
+  // results and the job row all need room.
+  // (The header guard has checked Content-Length: present, one, <= 18 digits.)
+  const int64_t announced = req.has_header("Content-Length") ? std::stoll(req.get_header_value("Content-Length")) : 0;
+  const int64_t free = free_bytes(ctx.data->root());
+  if (free >= 0 && free - announced < (ctx.config.min_free_mb << 20)) {
+    log::warn("upload refused: low disk space", {{"free_bytes", free}, {"min_free_mb", ctx.config.min_free_mb}});
+    res.set_header("Retry-After", "60");
+    return set_problem(res, 503, "insufficient-storage", "the server is low on disk space; retry after the indicated seconds");
   }
   const std::string key = req.get_header_value("Idempotency-Key");
   if (req.has_header("Idempotency-Key") && !valid_idempotency_key(key))
@@ -426,14 +437,22 @@ void register_routes(httplib::Server& http, ServerContext& ctx) {
   // it and answers a plain problem.
   http.set_exception_handler([](const httplib::Request& req, httplib::Response& res, std::exception_ptr ep) {
     std::string what = "unknown";
+    bool unavailable = false;
     try {
       std::rethrow_exception(ep);
+    } catch (const StorageUnavailable& e) {
+      what = e.what();
+      unavailable = true;
     } catch (const std::exception& e) {
       what = e.what();
     } catch (...) {
     }
     log::error("request failed", {{"method", req.method}, {"path", req.path.substr(0, 200)}, {"error", what}});
     close_connection_after(res);
+    if (unavailable) {  // full disk, failing job store: the client should come back
+      res.set_header("Retry-After", "30");
+      return set_problem(res, 503, "storage-unavailable", "the server cannot store data right now; retry after the indicated seconds");
+    }
     set_problem(res, 500, "internal", "internal server error");
   });
   // Errors httplib produces itself (unknown route, 400 on a bad request line,
@@ -534,10 +553,12 @@ void register_routes(httplib::Server& http, ServerContext& ctx) {
     res.set_content("{\"status\":\"ok\"}", "application/json");
   });
   http.Get("/readyz", [&ctx](const httplib::Request&, httplib::Response& res) {
+    const StorageStatus disk = storage_status(ctx.data->root(), ctx.config.min_free_mb << 20);
     nlohmann::json checks = {{"worker_binary", !ctx.worker_bin.empty()},
-                             {"data_dir_writable", access(ctx.data->root().c_str(), W_OK) == 0},
+                             {"data_dir_writable", disk.writable},
+                             {"disk_space", disk.enough_space},
                              {"queue_has_room", ctx.scheduler->has_room()}};
-    bool ok = checks["worker_binary"].get<bool>() && checks["data_dir_writable"].get<bool>();
+    bool ok = checks["worker_binary"].get<bool>() && disk.writable && disk.enough_space;
     send_json(res, ok ? 200 : 503, {{"status", ok ? "ready" : "not ready"}, {"checks", checks}});
   });
   http.Get("/metrics", [&ctx](const httplib::Request&, httplib::Response& res) {

@@ -238,8 +238,8 @@ void Scheduler::run_job(const std::string& id) {
     cancel = running_[id];
   }
   if (job->cancel_requested) {
-    store_.finish(id, JobState::canceled, std::nullopt, {}, now_seconds());
-    metrics_.job_finished("canceled");
+    if (store_write("finish", [&] { store_.finish(id, JobState::canceled, std::nullopt, {}, now_seconds()); }))
+      metrics_.job_finished("canceled");
     return;
   }
   // A worker binary being replaced (upgrade, rebuild) is briefly missing: wait
@@ -256,7 +256,14 @@ void Scheduler::run_job(const std::string& id) {
   const fs::path work = dir / "work";
   fs::remove_all(work);  // a re-run after restart starts clean: jobs are idempotent
   fs::create_directories(work);
-  store_.mark_running(id, now_seconds());
+  // Without a record of the attempt the run would not count (nor its result
+  // be recorded): put the job back at the end of the queue and try again
+  // after the next jobs; store_write's retries are the back-off.
+  if (!store_write("mark_running", [&] { store_.mark_running(id, now_seconds()); })) {
+    std::lock_guard lock(mu_);
+    if (!stopping_) queue_.push_back(id);
+    return;
+  }
   log::info("job started", {{"job", id}, {"attempt", job->attempts + 1}});
 
   std::vector<std::string> argv = {worker_bin_, "map", (dir / job->input_file).string(), "-o",
@@ -354,7 +361,7 @@ void Scheduler::run_job(const std::string& id) {
       fs::remove_all(work);
       log::warn("job attempt failed, retrying",
                 {{"job", id}, {"attempt", attempt}, {"error", verdict.error->detail}});
-      store_.requeue(id);
+      if (!store_write("requeue", [&] { store_.requeue(id); })) return;
       std::lock_guard lock(mu_);
       // Behind the jobs already waiting: a poison job must not monopolise a worker.
       if (!stopping_) queue_.push_back(id);
@@ -391,7 +398,10 @@ void Scheduler::run_job(const std::string& id) {
     }
   }
   fs::remove_all(work);
-  store_.finish(id, verdict.state, verdict.error, outputs, now_seconds());
+  // If the outcome cannot be recorded the job stays running in the store and
+  // the next start runs it again (bounded by --max-attempts).
+  if (!store_write("finish", [&] { store_.finish(id, verdict.state, verdict.error, outputs, now_seconds()); }))
+    return;
   metrics_.job_finished(to_string(verdict.state));
   nlohmann::json fields = {{"job", id}, {"state", to_string(verdict.state)}, {"seconds", outcome.seconds},
                            {"stage_seconds", stage_seconds}};

@@ -1,5 +1,6 @@
 // JobStore on SQLite (Debian's libsqlite3) in WAL mode: readers (status polls)
-// never wait for the writer, and a committed transaction survives SIGKILL.
+// never wait for the writer, and a committed transaction survives SIGKILL and
+// power loss (synchronous=FULL). A failed statement throws StorageUnavailable.
 // One connection guarded by a mutex — job metadata writes are few and tiny
 // compared with the pipeline, so this is never the bottleneck.
 #include <sqlite3.h>
@@ -8,6 +9,7 @@
 #include <stdexcept>
 
 #include "soupuv/server/job_store.h"
+#include "soupuv/server/storage.h"
 
 namespace soupuv::server {
 namespace {
@@ -36,7 +38,7 @@ class Stmt {
     int rc = sqlite3_step(s_);
     if (rc == SQLITE_ROW) return true;
     if (rc == SQLITE_DONE) return false;
-    throw std::runtime_error(std::string("sqlite step: ") + sqlite3_errmsg(db_));
+    throw StorageUnavailable(std::string("sqlite step: ") + sqlite3_errmsg(db_));
   }
   int step_rc() { return sqlite3_step(s_); }
   std::string text(int c) const {
@@ -96,9 +98,11 @@ class SqliteJobStore final : public JobStore {
     }
     sqlite3_busy_timeout(db_, 5000);
     exec("PRAGMA journal_mode=WAL");
-    // NORMAL in WAL mode: a commit survives a process crash (SIGKILL); only a
-    // power loss may drop the last transactions, which restart recovery tolerates.
-    exec("PRAGMA synchronous=NORMAL");
+    // FULL: every commit is fsynced before it returns, so a job answered 202
+    // (its row committed) survives a power loss too, not only SIGKILL (NORMAL
+    // in WAL mode may lose the last commits). Writes are few (a handful per
+    // job, progress at most 5 a second per worker), so an fsync each is affordable.
+    exec("PRAGMA synchronous=FULL");
     exec(
         "CREATE TABLE IF NOT EXISTS jobs ("
         " seq INTEGER PRIMARY KEY AUTOINCREMENT,"
@@ -131,7 +135,7 @@ class SqliteJobStore final : public JobStore {
       q.bind(1, job.idempotency_key);
       if (q.step()) return read_job(q);
     }
-    throw std::runtime_error(std::string("sqlite insert: ") + sqlite3_errmsg(db_));
+    throw StorageUnavailable(std::string("sqlite insert: ") + sqlite3_errmsg(db_));
   }
 
   std::optional<Job> get(const std::string& id) override {

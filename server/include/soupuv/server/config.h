@@ -40,6 +40,9 @@ struct Config {
   // Retry-After before their body is read. 0: half the HTTP threads, so the
   // other half always answers polls and health checks without queueing.
   int max_uploads = 0;
+  // Free space the data directory keeps: an upload that would leave less is
+  // refused (503 + Retry-After) and /readyz reports not ready.
+  int64_t min_free_mb = 512;
   bool validate_uploads = true;         // run `soupuv inspect` before queueing
   std::string log_level = "info";
 
