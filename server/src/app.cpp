@@ -65,7 +65,7 @@ App::App(Config config) {
   const Config& c = ctx_.config;
   ctx_.data = std::make_unique<DataDir>(fs::absolute(c.data_dir));
   ctx_.store = with_memory_snapshot(open_sqlite_job_store(ctx_.data->database().string()));
-  if (!c.tokens_file.empty()) ctx_.tokens = TokenSet::load(c.tokens_file);
+  if (!c.tokens_file.empty()) ctx_.tokens.set(TokenSet::load(c.tokens_file));
   ctx_.worker_bin = find_worker_binary(c.worker_bin);
   if (!c.worker_bin.empty() && ctx_.worker_bin.empty())
     throw std::runtime_error("--worker-bin " + c.worker_bin + " is not an executable file");
@@ -113,6 +113,20 @@ App::~App() { stop(); }
 
 bool App::bind() {
   const Config& c = ctx_.config;
+  if (c.metrics_port > 0) {
+    metrics_http_ = std::make_unique<httplib::Server>();
+    metrics_http_->Get("/metrics", [this](const httplib::Request&, httplib::Response& res) {
+      res.set_content(render_metrics(ctx_), "text/plain; version=0.0.4");
+    });
+    metrics_http_->set_error_handler([](const httplib::Request&, httplib::Response& res) {
+      set_problem(res, res.status == 0 ? 404 : res.status, "not-found", "this listener serves /metrics only");
+    });
+    metrics_http_->new_task_queue = [] { return new httplib::ThreadPool(2); };
+    if (!metrics_http_->bind_to_port(c.metrics_host, c.metrics_port)) {
+      log::error("cannot bind the metrics listener", {{"host", c.metrics_host}, {"port", c.metrics_port}});
+      return false;
+    }
+  }
   if (c.port == 0) {
     port_ = http_.bind_to_any_port(c.host);
     if (port_ <= 0) return false;
@@ -128,10 +142,11 @@ void App::serve() {
   size_t recovered = ctx_.scheduler->recover();
   ctx_.scheduler->start();
   sweeper_ = std::thread([this] { sweep_loop(); });
+  if (metrics_http_) metrics_thread_ = std::thread([this] { metrics_http_->listen_after_bind(); });
   log::info("listening", {{"host", ctx_.config.host}, {"port", port_}, {"data_dir", ctx_.data->root().string()},
                           {"workers", ctx_.config.workers}, {"queue_capacity", ctx_.config.queue_capacity},
                           {"threads_per_job", ctx_.config.threads_per_job()}, {"recovered_jobs", recovered},
-                          {"auth", ctx_.tokens.enabled()}});
+                          {"auth", ctx_.tokens.enabled()}, {"metrics_port", ctx_.config.metrics_port}});
   http_.listen_after_bind();
 }
 
@@ -143,9 +158,29 @@ void App::stop() {
   }
   sweep_cv_.notify_all();
   http_.stop();
+  if (metrics_http_) metrics_http_->stop();
+  if (metrics_thread_.joinable()) metrics_thread_.join();
   if (ctx_.scheduler) ctx_.scheduler->stop();
   if (sweeper_.joinable()) sweeper_.join();
   log::info("stopped");
+}
+
+bool App::reload_tokens() {
+  const std::string& path = ctx_.config.tokens_file;
+  if (path.empty()) {
+    log::info("SIGHUP: no --tokens-file to reload");
+    return false;
+  }
+  try {
+    TokenSet next = TokenSet::load(path);
+    const size_t n = next.size();
+    ctx_.tokens.set(std::move(next));
+    log::info("tokens reloaded", {{"tokens", n}});
+    return true;
+  } catch (const std::exception& e) {
+    log::error("tokens file not reloaded; the previous tokens stay in force", {{"error", e.what()}});
+    return false;
+  }
 }
 
 void App::sweep_loop() {

@@ -2,6 +2,8 @@
 // its environment variable and its help line cannot drift apart.
 #include "soupuv/server/config.h"
 
+#include <arpa/inet.h>
+
 #include <algorithm>
 #include <charconv>
 #include <cstdlib>
@@ -67,8 +69,15 @@ const std::vector<Option>& options() {
        [](Config& c, const std::string& v) { c.result_ttl_s = int(parse_int("result-ttl", v, 1, 365 * 86400)); }},
       {"worker-memory-mb", "address-space limit of each worker process (default 8192)",
        [](Config& c, const std::string& v) { c.worker_memory_mb = parse_int("worker-memory-mb", v, 64, 1 << 22); }},
-      {"tokens-file", "file of accepted bearer tokens, one per line (default: no auth)",
+      {"tokens-file", "bearer tokens, one `TOKEN` or `TENANT TOKEN` a line, >= 32 bytes each; reloaded on SIGHUP "
+                      "(default: none, allowed only on a loopback --host)",
        [](Config& c, const std::string& v) { c.tokens_file = v; }},
+      {"allow-anonymous", "serve a non-loopback --host without --tokens-file (default false: refused)",
+       [](Config& c, const std::string& v) { c.allow_anonymous = parse_bool("allow-anonymous", v); }},
+      {"metrics-host", "address of the --metrics-port listener (default 127.0.0.1)",
+       [](Config& c, const std::string& v) { c.metrics_host = v; }},
+      {"metrics-port", "own port serving only /metrics, without a token (default 0: /metrics on the main port)",
+       [](Config& c, const std::string& v) { c.metrics_port = int(parse_int("metrics-port", v, 0, 65535)); }},
       {"cache-size-mb", "field cache size on disk, shared by workers; the server prunes the oldest entries (default 1024)",
        [](Config& c, const std::string& v) { c.cache_size_mb = parse_int("cache-size-mb", v, 0, 1 << 24); }},
       {"cors-origins", "comma-separated origins allowed by CORS (default none)",
@@ -135,7 +144,18 @@ Config parse_config(const std::vector<std::string>& args, const EnvLookup& env) 
     if (!o) throw ConfigError("unknown flag --" + name + " (see --help)");
     o->set(c, value);
   }
+  if (c.tokens_file.empty() && !c.allow_anonymous && !is_loopback_host(c.host))
+    throw ConfigError("--host " + c.host +
+                      " is reachable from other machines and no --tokens-file is given: anyone could submit, read "
+                      "and delete jobs. Give --tokens-file FILE, or --allow-anonymous true to serve without "
+                      "authentication on purpose");
   return c;
+}
+
+bool is_loopback_host(const std::string& host) {
+  if (host == "localhost" || host == "::1") return true;
+  in_addr a{};
+  return inet_pton(AF_INET, host.c_str(), &a) == 1 && (ntohl(a.s_addr) >> 24) == 127;
 }
 
 EnvLookup process_env() {

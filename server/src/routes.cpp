@@ -86,9 +86,22 @@ bool send_file(httplib::Response& res, const fs::path& path, const std::string& 
   return true;
 }
 
+// The tenant a request acts for: "" without tokens; nullopt when tokens are
+// configured and this request's token is not (any more: a SIGHUP between the
+// guard and the handler) accepted, which then sees nothing.
+std::optional<std::string> request_tenant(const ServerContext& ctx, const httplib::Request& req) {
+  auto tokens = ctx.tokens.get();
+  if (!tokens->enabled()) return std::string();
+  return tokens->tenant_for(TokenSet::bearer(req.get_header_value("Authorization")));
+}
+
+// Another tenant's job is answered exactly like a missing one: its existence
+// is not revealed.
 std::optional<Job> job_or_404(ServerContext& ctx, const httplib::Request& req, httplib::Response& res) {
   const std::string id = req.matches[1];
   auto job = is_valid_job_id(id) ? ctx.store->get(id) : std::nullopt;
+  auto tenant = request_tenant(ctx, req);
+  if (job && (!tenant || job->tenant != *tenant)) job.reset();
   if (!job) set_problem(res, 404, "not-found", "no such job");
   return job;
 }
@@ -161,6 +174,8 @@ std::optional<Rejection> inspect_upload(ServerContext& ctx, const fs::path& file
 void submit_job(ServerContext& ctx, const httplib::Request& req, httplib::Response& res,
                 const httplib::ContentReader& content_reader) {
   if (ctx.worker_bin.empty()) return set_problem(res, 503, "unavailable", "no worker binary is installed");
+  const auto tenant = request_tenant(ctx, req);
+  if (!tenant) return set_problem(res, 401, "invalid-token", "the bearer token is not accepted");
   if (!ctx.scheduler->has_room()) return queue_full(res, ctx, 429);
   // Head-of-line guard: uploads hold an HTTP thread for seconds (body, fsync,
   // inspect); capped below the pool size, polls and health checks always find
@@ -314,6 +329,7 @@ void submit_job(ServerContext& ctx, const httplib::Request& req, httplib::Respon
   job.input_file = file_name_for(*kind);
   job.content_type = *kind == ModelKind::glb ? "model/gltf-binary" : *kind == ModelKind::gltf ? "model/gltf+json" : "application/octet-stream";
   job.input_bytes = model_bytes;
+  job.tenant = *tenant;
   job.idempotency_key = key;
   job.request_hash = hasher.hex();
 
@@ -379,6 +395,16 @@ bool cors_allowed(const ServerContext& ctx, const std::string& origin) {
 
 }  // namespace
 
+std::string render_metrics(ServerContext& ctx) {
+  std::map<std::string, double> gauges;
+  for (const auto& [state, n] : ctx.store->count_by_state()) gauges["jobs:" + state] = double(n);
+  gauges["queue_depth"] = double(ctx.scheduler->queue_depth());
+  gauges["queue_capacity"] = ctx.config.queue_capacity;
+  gauges["workers_busy"] = ctx.scheduler->busy_workers();
+  gauges["workers"] = ctx.config.workers;
+  return ctx.metrics.render(gauges);
+}
+
 void register_routes(httplib::Server& http, ServerContext& ctx) {
   // ---- guards -------------------------------------------------------------
   auto guard = [&ctx](const httplib::Request& req, httplib::Response& res) -> bool {
@@ -388,16 +414,24 @@ void register_routes(httplib::Server& http, ServerContext& ctx) {
       close_connection_after(res);
       return false;
     }
-    if (ctx.tokens.enabled() && req.path.rfind("/v1/", 0) == 0 && req.path != "/v1/openapi.yaml" &&
-        req.method != "OPTIONS") {
+    // Tokens guard the API and /metrics (jobs by state, queue depth: not for
+    // everyone; --metrics-port serves it without a token on its own address).
+    // Health checks, the OpenAPI document, CORS preflights and the upload page stay open.
+    auto tokens = ctx.tokens.get();
+    const bool protected_path = (req.path.rfind("/v1/", 0) == 0 && req.path != "/v1/openapi.yaml") ||
+                                req.path == "/metrics";
+    if (tokens->enabled() && protected_path && req.method != "OPTIONS") {
+      // RFC 6750 §3: no credentials -> a bare challenge; bad ones -> invalid_token.
       if (!req.has_header("Authorization")) {
         res.set_header("WWW-Authenticate", "Bearer realm=\"soupuv\"");
         set_problem(res, 401, "unauthorized", "a bearer token is required");
         close_connection_after(res);
         return false;
       }
-      if (!ctx.tokens.accepts(TokenSet::bearer(req.get_header_value("Authorization")))) {
-        set_problem(res, 403, "forbidden", "the bearer token is not accepted");
+      if (!tokens->accepts(TokenSet::bearer(req.get_header_value("Authorization")))) {
+        res.set_header("WWW-Authenticate",
+                       "Bearer realm=\"soupuv\", error=\"invalid_token\", error_description=\"the token is not accepted\"");
+        set_problem(res, 401, "invalid-token", "the bearer token is not accepted");
         close_connection_after(res);
         return false;
       }
@@ -501,7 +535,9 @@ void register_routes(httplib::Server& http, ServerContext& ctx) {
     std::string cursor = req.has_param("cursor") ? req.get_param_value("cursor") : "";
     if (cursor.size() > 20 || !std::all_of(cursor.begin(), cursor.end(), ::isdigit))
       return set_problem(res, 400, "invalid-query", "cursor must come from next_cursor");
-    auto page = ctx.store->list(state, limit, cursor);
+    auto tenant = request_tenant(ctx, req);
+    if (!tenant) return set_problem(res, 401, "invalid-token", "the bearer token is not accepted");
+    auto page = ctx.store->list(state, limit, cursor, *tenant);
     nlohmann::json out = {{"jobs", nlohmann::json::array()}, {"next_cursor", page.next_cursor.empty() ? nlohmann::json() : nlohmann::json(page.next_cursor)}};
     for (const auto& j : page.jobs) out["jobs"].push_back(to_json(j));
     send_json(res, 200, out);
@@ -562,13 +598,7 @@ void register_routes(httplib::Server& http, ServerContext& ctx) {
     send_json(res, ok ? 200 : 503, {{"status", ok ? "ready" : "not ready"}, {"checks", checks}});
   });
   http.Get("/metrics", [&ctx](const httplib::Request&, httplib::Response& res) {
-    std::map<std::string, double> gauges;
-    for (const auto& [state, n] : ctx.store->count_by_state()) gauges["jobs:" + state] = double(n);
-    gauges["queue_depth"] = double(ctx.scheduler->queue_depth());
-    gauges["queue_capacity"] = ctx.config.queue_capacity;
-    gauges["workers_busy"] = ctx.scheduler->busy_workers();
-    gauges["workers"] = ctx.config.workers;
-    res.set_content(ctx.metrics.render(gauges), "text/plain; version=0.0.4");
+    res.set_content(render_metrics(ctx), "text/plain; version=0.0.4");
   });
 
   // ---- upload page ----------------------------------------------------------

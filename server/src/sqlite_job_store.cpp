@@ -57,7 +57,15 @@ class Stmt {
 constexpr const char* kColumns =
     "id, state, created_at, started_at, finished_at, stage, fraction, stage_seconds, error_code, "
     "error_status, error_detail, params, input_file, content_type, input_bytes, idem_key, "
-    "request_hash, attempts, cancel_requested, outputs, seq";
+    "request_hash, attempts, cancel_requested, outputs, seq, tenant";
+
+// Idempotency keys are unique per tenant. The idem_key column (UNIQUE since
+// the first schema) holds "tenant\nkey"; neither part can contain '\n'
+// (validated at the API), and the tenant-less form is the key alone, as
+// before tenants existed.
+std::string stored_key(const std::string& tenant, const std::string& key) {
+  return tenant.empty() ? key : tenant + "\n" + key;
+}
 
 Job read_job(const Stmt& s) {
   Job j;
@@ -77,6 +85,7 @@ Job read_job(const Stmt& s) {
   j.content_type = s.text(13);
   j.input_bytes = s.integer(14);
   j.idempotency_key = s.text(15);
+  if (auto nl = j.idempotency_key.find('\n'); nl != std::string::npos) j.idempotency_key.erase(0, nl + 1);
   j.request_hash = s.text(16);
   j.attempts = int(s.integer(17));
   j.cancel_requested = s.integer(18) != 0;
@@ -84,6 +93,7 @@ Job read_job(const Stmt& s) {
   if (outs.is_array())
     for (const auto& o : outs)
       if (o.is_string()) j.outputs.push_back(o.get<std::string>());
+  j.tenant = s.text(21);
   return j;
 }
 
@@ -115,6 +125,9 @@ class SqliteJobStore final : public JobStore {
         " request_hash TEXT NOT NULL, attempts INTEGER NOT NULL DEFAULT 0,"
         " cancel_requested INTEGER NOT NULL DEFAULT 0, outputs TEXT NOT NULL DEFAULT '[]')");
     exec("CREATE INDEX IF NOT EXISTS jobs_state ON jobs(state, seq)");
+    // Databases from before tenants: their jobs belong to the tenant-less server.
+    if (!has_column("jobs", "tenant")) exec("ALTER TABLE jobs ADD COLUMN tenant TEXT NOT NULL DEFAULT ''");
+    exec("CREATE INDEX IF NOT EXISTS jobs_tenant ON jobs(tenant, seq)");
   }
   ~SqliteJobStore() override { sqlite3_close(db_); }
 
@@ -122,17 +135,17 @@ class SqliteJobStore final : public JobStore {
     std::lock_guard lock(mu_);
     Stmt s(db_,
            "INSERT INTO jobs (id, state, created_at, params, input_file, content_type, input_bytes,"
-           " idem_key, request_hash) VALUES (?,?,?,?,?,?,?,?,?)");
+           " idem_key, request_hash, tenant) VALUES (?,?,?,?,?,?,?,?,?,?)");
     s.bind(1, job.id).bind(2, std::string(to_string(job.state))).bind(3, job.created_at)
         .bind(4, job.params.dump()).bind(5, job.input_file).bind(6, job.content_type)
         .bind(7, job.input_bytes);
-    if (job.idempotency_key.empty()) s.bind_null(8); else s.bind(8, job.idempotency_key);
-    s.bind(9, job.request_hash);
+    if (job.idempotency_key.empty()) s.bind_null(8); else s.bind(8, stored_key(job.tenant, job.idempotency_key));
+    s.bind(9, job.request_hash).bind(10, job.tenant);
     int rc = s.step_rc();
     if (rc == SQLITE_DONE) return get_locked(job.id);
     if (rc == SQLITE_CONSTRAINT && !job.idempotency_key.empty()) {
       Stmt q(db_, (std::string("SELECT ") + kColumns + " FROM jobs WHERE idem_key = ?").c_str());
-      q.bind(1, job.idempotency_key);
+      q.bind(1, stored_key(job.tenant, job.idempotency_key));
       if (q.step()) return read_job(q);
     }
     throw StorageUnavailable(std::string("sqlite insert: ") + sqlite3_errmsg(db_));
@@ -143,18 +156,21 @@ class SqliteJobStore final : public JobStore {
     return get_locked(id);
   }
 
-  JobPage list(std::optional<JobState> state, int limit, const std::string& cursor) override {
+  JobPage list(std::optional<JobState> state, int limit, const std::string& cursor,
+               const std::optional<std::string>& tenant) override {
     std::lock_guard lock(mu_);
     int64_t before = INT64_MAX;
     if (!cursor.empty()) {
       try { before = std::stoll(cursor); } catch (...) { before = INT64_MAX; }
     }
     std::string sql = std::string("SELECT ") + kColumns + " FROM jobs WHERE seq < ?" +
-                      (state ? " AND state = ?" : "") + " ORDER BY seq DESC LIMIT ?";
+                      (state ? " AND state = ?" : "") + (tenant ? " AND tenant = ?" : "") +
+                      " ORDER BY seq DESC LIMIT ?";
     Stmt s(db_, sql.c_str());
     int i = 1;
     s.bind(i++, before);
     if (state) s.bind(i++, std::string(to_string(*state)));
+    if (tenant) s.bind(i++, *tenant);
     s.bind(i++, limit + 1);
     JobPage page;
     int64_t last_seq = 0;
@@ -252,6 +268,13 @@ class SqliteJobStore final : public JobStore {
       sqlite3_free(err);
       throw std::runtime_error(std::string("sqlite: ") + msg);
     }
+  }
+
+  bool has_column(const char* table, const char* column) {
+    Stmt s(db_, (std::string("PRAGMA table_info(") + table + ")").c_str());
+    while (s.step())
+      if (s.text(1) == column) return true;
+    return false;
   }
 
   std::optional<Job> get_locked(const std::string& id) {

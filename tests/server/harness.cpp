@@ -87,7 +87,15 @@ ServerProcess::ServerProcess(fs::path data_dir, std::vector<std::string> args, s
     }
     std::this_thread::sleep_for(std::chrono::milliseconds(20));
   }
-  if (port_ == 0) throw std::runtime_error("server did not start: " + log());
+  if (port_ == 0) {
+    // No destructor runs for a constructor that throws: end the process and
+    // the reader here (a joinable thread member would std::terminate), so
+    // the message has everything the server said.
+    if (pid_ > 0) kill_hard();
+    reader_.join();
+    close(err_fd_);
+    throw std::runtime_error("server did not start: " + log());
+  }
 }
 
 ServerProcess::~ServerProcess() {

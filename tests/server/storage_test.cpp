@@ -88,8 +88,9 @@ class BrokenStore final : public JobStore {
 
   std::optional<Job> create_or_get_by_key(const Job& j) override { return real_->create_or_get_by_key(j); }
   std::optional<Job> get(const std::string& id) override { return real_->get(id); }
-  JobPage list(std::optional<JobState> s, int limit, const std::string& cursor) override {
-    return real_->list(s, limit, cursor);
+  JobPage list(std::optional<JobState> s, int limit, const std::string& cursor,
+               const std::optional<std::string>& tenant) override {
+    return real_->list(s, limit, cursor, tenant);
   }
   void mark_running(const std::string& id, double at) override { check(); real_->mark_running(id, at); }
   void requeue(const std::string& id) override { check(); real_->requeue(id); }

@@ -103,23 +103,24 @@ TEST(Supervision, FullQueueAnswers429WithRetryAfter) {
 
 TEST(Auth, TokensOnAndOff) {
   fs::path dir = fresh_dir("auth");
-  std::ofstream(dir / "tokens") << "# api tokens\ns3cret-token-1\n";
+  const std::string token = "s3cret-token-1-0123456789abcdefghij";
+  std::ofstream(dir / "tokens") << "# api tokens\n" << token << "\n";
   auto s = with_double("auth-server", "slow", {"--tokens-file", (dir / "tokens").string()}, "1");
   auto c = s->client();
   auto none = submit(c, read_bytes(shared_data("gltf/Box.glb")), "model/gltf-binary");
   EXPECT_EQ(none->status, 401);
   EXPECT_EQ(none->get_header_value("WWW-Authenticate").rfind("Bearer", 0), 0u);
   auto wrong = c.Get("/v1/jobs", {{"Authorization", "Bearer nope"}});
-  EXPECT_EQ(wrong->status, 403);
+  EXPECT_EQ(wrong->status, 401);
   EXPECT_EQ(wrong->get_header_value("Content-Type"), "application/problem+json");
-  auto ok = c.Get("/v1/jobs", {{"Authorization", "Bearer s3cret-token-1"}});
+  auto ok = c.Get("/v1/jobs", {{"Authorization", "Bearer " + token}});
   EXPECT_EQ(ok->status, 200);
   auto sub = submit(c, read_bytes(shared_data("gltf/Box.glb")), "model/gltf-binary", "",
-                    {{"Authorization", "Bearer s3cret-token-1"}});
+                    {{"Authorization", "Bearer " + token}});
   EXPECT_EQ(sub->status, 202);
   EXPECT_EQ(c.Get("/healthz")->status, 200);  // operations stay open
   EXPECT_EQ(c.Get("/v1/openapi.yaml")->status, 200);
-  // Without a tokens file the API is open.
+  // Without a tokens file (loopback) the API is open.
   auto open = with_double("auth-off", "slow", {}, "1");
   auto c2 = open->client();
   EXPECT_EQ(c2.Get("/v1/jobs")->status, 200);

@@ -102,17 +102,44 @@ TEST(Auth, ConstantTimeCompareAndBearerParsing) {
   EXPECT_FALSE(constant_time_equal("abc", "abcd"));
   EXPECT_FALSE(constant_time_equal("", "a"));
   EXPECT_EQ(TokenSet::bearer("Bearer xyz"), "xyz");
+  EXPECT_EQ(TokenSet::bearer("bearer xyz"), "xyz");  // the scheme is case-insensitive (RFC 9110 11.1)
+  EXPECT_EQ(TokenSet::bearer("BEARER  xyz "), "xyz");
   EXPECT_EQ(TokenSet::bearer("Basic xyz"), "");
+  EXPECT_EQ(TokenSet::bearer("Bearerxyz"), "");
   EXPECT_EQ(TokenSet::bearer("Bearer "), "");
+  EXPECT_EQ(TokenSet::bearer("Bearer a b"), "");
+}
+
+TEST(Auth, TokensFileNamesTenantsAndRefusesWeakTokens) {
+  const std::string a(32, 'a'), b = std::string(40, 'b'), c = "c" + std::string(35, '7');
   fs::path dir = soupuv::test::fresh_dir("tokens");
-  std::ofstream(dir / "t") << "# comment\n\nsecret-one\n  secret-two  \n";
+  std::ofstream(dir / "t") << "# comment\n\nalice " << a << "\n  bob\t" << b << "  \r\n" << c << "\n";
   TokenSet t = TokenSet::load((dir / "t").string());
-  EXPECT_TRUE(t.accepts("secret-one"));
-  EXPECT_TRUE(t.accepts("secret-two"));
-  EXPECT_FALSE(t.accepts("secret"));
-  EXPECT_FALSE(t.accepts(""));
-  std::ofstream(dir / "empty") << "# nothing\n";
-  EXPECT_THROW(TokenSet::load((dir / "empty").string()), std::runtime_error);
+  EXPECT_EQ(t.size(), 3u);
+  EXPECT_EQ(t.tenant_for(a), "alice");
+  EXPECT_EQ(t.tenant_for(b), "bob");
+  // A token alone is its own tenant, named by a hash, never by the token.
+  auto own = t.tenant_for(c);
+  ASSERT_TRUE(own);
+  EXPECT_EQ(own->rfind("token-", 0), 0u);
+  EXPECT_EQ(own->size(), 6u + 16u);
+  EXPECT_EQ(own->find(c.substr(0, 8)), std::string::npos);
+  EXPECT_FALSE(t.tenant_for(a.substr(0, 31)));
+  EXPECT_FALSE(t.tenant_for(""));
+  auto refused = [&](const std::string& text) {
+    std::ofstream(dir / "bad") << text;
+    try {
+      TokenSet::load((dir / "bad").string());
+    } catch (const std::runtime_error& e) {
+      return std::string(e.what());
+    }
+    return std::string();
+  };
+  EXPECT_NE(refused("# nothing\n").find("no tokens"), std::string::npos);
+  EXPECT_NE(refused("alice short-token\n").find("line 1: token shorter than 32 bytes"), std::string::npos);
+  EXPECT_NE(refused(a + "\nbob " + a + "\n").find("line 2: token listed twice"), std::string::npos);
+  EXPECT_NE(refused("al/ice " + a + "\n").find("tenant"), std::string::npos);
+  EXPECT_NE(refused("x y " + a + "\n").find("TENANT TOKEN"), std::string::npos);
 }
 
 TEST(Guards, RefuseBeforeTheBody) {
@@ -212,17 +239,17 @@ TEST(SqliteJobStore, LifecyclePagingIdempotencyAndPersistence) {
     store->finish(ids[2], JobState::failed, JobError{"invalid_input", 400, "bad"}, {}, now_seconds() - 100);
     store->finish(ids[3], JobState::succeeded, std::nullopt, {"result.glb"}, now_seconds());
 
-    auto p1 = store->list(std::nullopt, 2, "");
+    auto p1 = store->list(std::nullopt, 2, "", std::nullopt);
     ASSERT_EQ(p1.jobs.size(), 2u);
     EXPECT_EQ(p1.jobs[0].id, ids[4]);  // newest first
     EXPECT_FALSE(p1.next_cursor.empty());
-    auto p2 = store->list(std::nullopt, 2, p1.next_cursor);
+    auto p2 = store->list(std::nullopt, 2, p1.next_cursor, std::nullopt);
     ASSERT_EQ(p2.jobs.size(), 2u);
     EXPECT_EQ(p2.jobs[0].id, ids[2]);
-    auto p3 = store->list(std::nullopt, 2, p2.next_cursor);
+    auto p3 = store->list(std::nullopt, 2, p2.next_cursor, std::nullopt);
     ASSERT_EQ(p3.jobs.size(), 1u);
     EXPECT_TRUE(p3.next_cursor.empty());
-    auto failed = store->list(JobState::failed, 10, "");
+    auto failed = store->list(JobState::failed, 10, "", std::nullopt);
     ASSERT_EQ(failed.jobs.size(), 1u);
     EXPECT_EQ(failed.jobs[0].error->detail, "bad");
     EXPECT_EQ(store->count_by_state()["queued"], 2);

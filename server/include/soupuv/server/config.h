@@ -30,7 +30,15 @@ struct Config {
   int max_attempts = 3;
   int result_ttl_s = 86400;             // finished jobs and their files
   int64_t worker_memory_mb = 8192;      // RLIMIT_AS per worker
-  std::string tokens_file;              // empty: no authentication
+  std::string tokens_file;              // empty: no authentication (loopback only, see below)
+  // Serve without tokens on a non-loopback --host. Off: such a start is
+  // refused, so no shipped configuration is anonymous by accident.
+  bool allow_anonymous = false;
+  // A second listener serving only /metrics, without a token (for a
+  // scraper on a private network). 0: none; /metrics is then on the main
+  // port and needs a token when tokens are configured.
+  std::string metrics_host = "127.0.0.1";
+  int metrics_port = 0;
   int64_t cache_size_mb = 1024;         // budget of DATA/cache/, the workers' shared field cache (pruned by the sweeper)
   std::vector<std::string> cors_origins;  // exact origins allowed; empty: none
   std::string worker_bin;               // soupuv CLI; empty: next to the server
@@ -56,9 +64,12 @@ class ConfigError : public std::runtime_error {
 
 using EnvLookup = std::function<std::optional<std::string>(const std::string&)>;
 
-// Throws ConfigError. `--help` is not handled here (see help_text()).
+// Throws ConfigError (also when --host is not loopback and neither
+// --tokens-file nor --allow-anonymous is given). `--help` is not handled here.
 Config parse_config(const std::vector<std::string>& args, const EnvLookup& env);
 EnvLookup process_env();
+// 127.0.0.0/8, ::1 or "localhost".
+bool is_loopback_host(const std::string& host);
 std::string help_text();
 
 }  // namespace soupuv::server
