@@ -10,6 +10,7 @@
 #include <unistd.h>
 
 #include <chrono>
+#include <cstdlib>
 #include <fstream>
 #include <regex>
 #include <stdexcept>
@@ -36,8 +37,11 @@ std::string shared_data(const std::string& rel) { return std::string(SOUPUV_SHAR
 bool cli_available() { return std::string(SOUPUV_CLI_BIN).size() > 0 && access(SOUPUV_CLI_BIN, X_OK) == 0; }
 
 ServerProcess::ServerProcess(fs::path data_dir, std::vector<std::string> args, std::vector<std::string> env) {
-  std::vector<std::string> argv = {SOUPUV_SERVER_BIN, "--host", "127.0.0.1", "--port", "0", "--data-dir",
-                                   data_dir.string()};
+  // SOUPUV_TEST_SERVER_BIN runs the black-box tests against another build
+  // (e.g. the previous commit's server, to see a new test fail there).
+  const char* other = std::getenv("SOUPUV_TEST_SERVER_BIN");
+  std::vector<std::string> argv = {other && *other ? other : SOUPUV_SERVER_BIN, "--host", "127.0.0.1", "--port", "0",
+                                   "--data-dir", data_dir.string()};
   argv.insert(argv.end(), args.begin(), args.end());
   std::vector<std::string> envs;
   for (char** e = environ; *e; ++e) envs.emplace_back(*e);
