@@ -90,6 +90,47 @@ m = re.search(r"SOUPUV_PORT=(\d+)", dockerfile)
 check("EXPOSE = SOUPUV_PORT", m is not None and f"EXPOSE {m.group(1)}" in dockerfile)
 check("installs deps through scripts/install-deps.sh", "scripts/install-deps.sh" in dockerfile)
 
+# ---- nobody gets in by default ----------------------------------------------------------------
+def loopback(host):
+    return host in ("localhost", "::1") or str(host).startswith("127.")
+
+
+def not_anonymous(name, env_map):
+    host = str(env_map.get("SOUPUV_HOST", "127.0.0.1"))
+    ok = loopback(host) or bool(env_map.get("SOUPUV_TOKENS_FILE"))
+    check(f"{name}: a non-loopback host has a tokens file", ok, f"SOUPUV_HOST={host} without SOUPUV_TOKENS_FILE")
+    check(f"{name}: not anonymous on purpose", str(env_map.get("SOUPUV_ALLOW_ANONYMOUS", "false")).lower()
+          in ("0", "false", "no", "off"))
+
+
+docker_env_map = dict(re.findall(r"(?<!-D)(SOUPUV_[A-Z_]+)=(\S+)", dockerfile))
+not_anonymous("Dockerfile", docker_env_map)
+not_anonymous("compose", env)
+not_anonymous("k8s ConfigMap", cm)
+# compose: the tokens file is a secret at SOUPUV_TOKENS_FILE; the only published port is on loopback.
+secret_files = {k: v["file"] for k, v in compose.get("secrets", {}).items()}
+check("compose tokens secret mounted where SOUPUV_TOKENS_FILE points",
+      env.get("SOUPUV_TOKENS_FILE") in [f"/run/secrets/{n}" for n in svc.get("secrets", []) if n in secret_files],
+      str(svc.get("secrets")))
+check("compose tokens file is git-ignored",
+      all(f.startswith("./secrets/") for f in secret_files.values())
+      and "/deploy/secrets/" in open(os.path.join(src, ".gitignore")).read())
+published = [p for s in compose["services"].values() for p in s.get("ports", [])]
+check("compose publishes on 127.0.0.1 only", all(str(p).startswith("127.0.0.1:") for p in published), str(published))
+# k8s: the tokens file comes from a Secret mounted at its directory.
+tokens_dir = os.path.dirname(cm.get("SOUPUV_TOKENS_FILE", ""))
+mounts = {m["name"]: m for m in c["volumeMounts"]}
+vols = {v["name"]: v for v in pod["volumes"]}
+secret_mounts = [m for n, m in mounts.items() if "secret" in vols.get(n, {}) and m["mountPath"] == tokens_dir]
+check("k8s tokens Secret mounted at the tokens file's directory", len(secret_mounts) == 1, tokens_dir)
+# Docker reads .dockerignore at the build context's root (compose: context ..).
+ignore = os.path.join(src, "deploy", svc["build"]["context"], ".dockerignore")
+check(".dockerignore at the build context root", os.path.exists(ignore))
+if os.path.exists(ignore):
+    patterns = open(ignore).read().split()
+    check(".dockerignore keeps build trees and secrets out", {"build*", "deploy/secrets", ".git"} <= set(patterns),
+          str(patterns))
+
 # ---- nginx --------------------------------------------------------------------------------
 conf = open(os.path.join(src, "deploy/nginx/soupuv.conf")).read()
 check("nginx streams uploads", "proxy_request_buffering off" in conf)
