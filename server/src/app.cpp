@@ -9,6 +9,7 @@
 #include "soupuv/server/cache_prune.h"
 #include "soupuv/server/log.h"
 #include "soupuv/server/problem.h"
+#include "soupuv/server/sandbox.h"
 #include "soupuv/server/storage.h"
 
 namespace soupuv::server {
@@ -66,6 +67,12 @@ App::App(Config config) {
   ctx_.data = std::make_unique<DataDir>(fs::absolute(c.data_dir));
   ctx_.store = with_memory_snapshot(open_sqlite_job_store(ctx_.data->database().string()));
   if (!c.tokens_file.empty()) ctx_.tokens.set(TokenSet::load(c.tokens_file));
+  if (c.worker_sandbox == "landlock" && landlock_abi() == 0)
+    throw std::runtime_error("--worker-sandbox landlock: this kernel has no Landlock (Linux >= 5.13 with landlock "
+                             "in the LSM list); use --worker-sandbox auto or off to run workers unconfined");
+  if (!sandbox_active(c))
+    log::warn("workers run without the Landlock sandbox: a hostile model's parser could read the server's files",
+              {{"worker_sandbox", c.worker_sandbox}, {"landlock_abi", landlock_abi()}});
   ctx_.worker_bin = find_worker_binary(c.worker_bin);
   if (!c.worker_bin.empty() && ctx_.worker_bin.empty())
     throw std::runtime_error("--worker-bin " + c.worker_bin + " is not an executable file");
@@ -146,7 +153,9 @@ void App::serve() {
   log::info("listening", {{"host", ctx_.config.host}, {"port", port_}, {"data_dir", ctx_.data->root().string()},
                           {"workers", ctx_.config.workers}, {"queue_capacity", ctx_.config.queue_capacity},
                           {"threads_per_job", ctx_.config.threads_per_job()}, {"recovered_jobs", recovered},
-                          {"auth", ctx_.tokens.enabled()}, {"metrics_port", ctx_.config.metrics_port}});
+                          {"auth", ctx_.tokens.enabled()}, {"metrics_port", ctx_.config.metrics_port},
+                          {"worker_sandbox", sandbox_active(ctx_.config) ? "landlock" : "off"},
+                          {"landlock_abi", landlock_abi()}});
   http_.listen_after_bind();
 }
 

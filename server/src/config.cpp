@@ -69,6 +69,17 @@ const std::vector<Option>& options() {
        [](Config& c, const std::string& v) { c.result_ttl_s = int(parse_int("result-ttl", v, 1, 365 * 86400)); }},
       {"worker-memory-mb", "address-space limit of each worker process (default 8192)",
        [](Config& c, const std::string& v) { c.worker_memory_mb = parse_int("worker-memory-mb", v, 64, 1 << 22); }},
+      {"worker-max-file-mb", "largest file a worker may write, RLIMIT_FSIZE (default 4096)",
+       [](Config& c, const std::string& v) { c.worker_max_file_mb = parse_int("worker-max-file-mb", v, 1, 1 << 22); }},
+      {"worker-sandbox", "auto, landlock or off: confine workers with Landlock (auto: when the kernel has it)",
+       [](Config& c, const std::string& v) {
+         if (v != "auto" && v != "landlock" && v != "off")
+           throw ConfigError("--worker-sandbox: expected auto, landlock or off, got '" + v + "'");
+         c.worker_sandbox = v;
+       }},
+      {"worker-env", "comma-separated names of environment variables passed to workers "
+                     "(default ASAN_OPTIONS,UBSAN_OPTIONS,LSAN_OPTIONS)",
+       [](Config& c, const std::string& v) { c.worker_env = split_list(v); }},
       {"tokens-file", "bearer tokens, one `TOKEN` or `TENANT TOKEN` a line, >= 32 bytes each; reloaded on SIGHUP "
                       "(default: none, allowed only on a loopback --host)",
        [](Config& c, const std::string& v) { c.tokens_file = v; }},

@@ -14,6 +14,7 @@
 #include "soupuv/server/http_server.h"
 #include "soupuv/server/log.h"
 #include "soupuv/server/problem.h"
+#include "soupuv/server/sandbox.h"
 #include "soupuv/server/storage.h"
 #include "soupuv/server/upload_check.h"
 #include "soupuv/server/worker_process.h"
@@ -152,10 +153,22 @@ std::optional<Rejection> inspect_upload(ServerContext& ctx, const fs::path& file
   limits.wall_seconds = 60;
   limits.address_space_bytes = ctx.config.worker_memory_mb << 20;
   limits.cpu_seconds = 60;
+  // Sandboxed like a job's worker: it reads the upload, writes nothing (its
+  // scratch directory is the upload's own temp directory, read-only here).
+  SandboxPaths paths;
+  paths.program = ctx.worker_bin;
+  paths.read_files = {file.string()};
+  std::string sandbox_error;
+  if (!confine_worker(ctx.config, paths, file.parent_path().string(), limits, sandbox_error)) {
+    log::error("worker sandbox could not be built", {{"error", sandbox_error}});
+    return Rejection{503, "unavailable", "the upload cannot be checked safely right now"};
+  }
+  RulesetCloser closer{limits.landlock_ruleset};
   std::string reason;
   std::atomic<bool> never{false};
-  auto outcome = run_process({ctx.worker_bin, "inspect", file.string()}, {"OMP_NUM_THREADS=1"}, limits, never,
-                             [&](const std::string& line) {
+  auto outcome = run_process({ctx.worker_bin, "inspect", file.string()},
+                             worker_environment(file.parent_path().string(), ctx.config.worker_env, {"OMP_NUM_THREADS=1"}),
+                             limits, never, [&](const std::string& line) {
                                if (line.rfind("soupuv: ", 0) == 0) reason = line.substr(8, 500);
                              });
   auto verdict = classify_outcome(outcome, reason, ctx.config);

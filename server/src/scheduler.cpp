@@ -9,6 +9,7 @@
 #include <filesystem>
 
 #include "soupuv/server/log.h"
+#include "soupuv/server/sandbox.h"
 #include "soupuv/server/worker_process.h"
 
 namespace soupuv::server {
@@ -47,6 +48,9 @@ std::string clean_stage(const std::string& s) {
 WorkerVerdict classify_outcome(const ProcessOutcome& o, const std::string& reason, const Config& config) {
   if (!o.started) return {JobState::failed, JobError{"worker_unavailable", 503, o.start_error}};
   if (o.canceled) return {JobState::canceled, std::nullopt};
+  if (o.output_exceeded)
+    return {JobState::failed,
+            JobError{"output_limit", 500, "the worker wrote more than 1 MiB to stdout, where it should write nothing"}};
   if (o.timed_out)
     return {JobState::failed,
             JobError{"timeout", 504, "job exceeded its wall-clock limit of " +
@@ -56,6 +60,9 @@ WorkerVerdict classify_outcome(const ProcessOutcome& o, const std::string& reaso
     if (o.signal == SIGXCPU)
       return {JobState::failed, JobError{"resource_limit", 500, "worker stopped by signal " +
                                                                    std::to_string(o.signal) + " (CPU-time limit)"}};
+    if (o.signal == SIGXFSZ)
+      return {JobState::failed, JobError{"resource_limit", 500, "worker stopped by signal " + std::to_string(o.signal) +
+                                                                   " (file-size limit, --worker-max-file-mb)"}};
     // SIGKILL we did not send: the kernel's OOM killer (or an operator), which
     // depends on what else ran at the time, so another attempt may succeed.
     if (o.signal == SIGKILL)
@@ -78,6 +85,7 @@ WorkerVerdict classify_outcome(const ProcessOutcome& o, const std::string& reaso
     case 7: return {JobState::failed, JobError{"not_built", 501, detail}};
     case 8: return {JobState::failed, JobError{"io_error", 500, detail}};
     case 127: return {JobState::failed, JobError{"worker_unavailable", 503, detail}};
+    case kSandboxFailedExit: return {JobState::failed, JobError{"sandbox_failed", 500, detail}};
     default: return {JobState::failed, JobError{"internal", 500, detail}};
   }
 }
@@ -285,8 +293,17 @@ void Scheduler::run_job(const std::string& id) {
     write_file_atomic(work / "seam_hints.json", job->params["seam_hints"].dump());
     add("--seam-hints", (work / "seam_hints.json").string());
   }
+  // The sandbox (sandbox.h): the worker reads its input and texture, writes
+  // only work/ (its scratch directory and cwd) and the shared field cache.
+  SandboxPaths paths;
+  paths.program = worker_bin_;
+  paths.read_files.push_back((dir / job->input_file).string());
   for (const char* tex : {"texture.png", "texture.jpg"})
-    if (fs::exists(dir / tex)) add("--texture", (dir / tex).string());
+    if (fs::exists(dir / tex)) {
+      add("--texture", (dir / tex).string());
+      paths.read_files.push_back((dir / tex).string());
+    }
+  paths.read_write = {work.string(), data_.cache().string()};
   for (auto& f : params_to_flags(job->params, caps_)) argv.push_back(f);
 
   ProcessLimits limits;
@@ -294,7 +311,11 @@ void Scheduler::run_job(const std::string& id) {
   limits.wall_seconds = config_.job_timeout_s;
   // CPU time is summed over threads: allow the wall budget on every thread.
   limits.cpu_seconds = int64_t(config_.job_timeout_s) * config_.threads_per_job() + 10;
-  std::vector<std::string> env = {"OMP_NUM_THREADS=" + std::to_string(config_.threads_per_job())};
+  std::string sandbox_error;
+  bool confined = confine_worker(config_, paths, work.string(), limits, sandbox_error);
+  RulesetCloser closer{limits.landlock_ruleset};
+  const std::vector<std::string> env = worker_environment(
+      work.string(), config_.worker_env, {"OMP_NUM_THREADS=" + std::to_string(config_.threads_per_job())});
 
   std::string stage, last_reason;
   double stage_started = now_seconds(), last_write = 0;
@@ -332,7 +353,14 @@ void Scheduler::run_job(const std::string& id) {
       }
     }
   };
-  ProcessOutcome outcome = run_process(argv, env, limits, *cancel, on_line, (work / "stdout.log").string());
+  ProcessOutcome outcome;
+  if (confined) {
+    outcome = run_process(argv, env, limits, *cancel, on_line);
+  } else {  // fail closed: an untrusted model is never parsed unconfined by accident
+    log::error("worker sandbox could not be built", {{"job", id}, {"error", sandbox_error}});
+    outcome.started = false;
+    outcome.start_error = "the worker sandbox could not be set up";
+  }
   if (!stage.empty()) {
     double secs = now_seconds() - stage_started;
     stage_seconds[stage] = stage_seconds.value(stage, 0.0) + secs;

@@ -215,7 +215,8 @@ nlohmann::json wait_state(httplib::Client& c, const std::string& id, const std::
 std::unique_ptr<ServerProcess> with_double(const std::string& name, const std::string& mode,
                                            std::vector<std::string> args, const std::string& seconds,
                                            std::vector<std::string> env) {
-  std::vector<std::string> a = {"--worker-bin", SOUPUV_WORKER_DOUBLE, "--validate-uploads", "false"};
+  std::vector<std::string> a = {"--worker-bin", SOUPUV_WORKER_DOUBLE, "--validate-uploads", "false", "--worker-env",
+                                kDoubleEnv};
   a.insert(a.end(), args.begin(), args.end());
   env.push_back("SOUPUV_TEST_WORKER_MODE=" + mode);
   env.push_back("SOUPUV_TEST_WORKER_SECONDS=" + seconds);

@@ -60,6 +60,11 @@ nlohmann::json wait_finished(httplib::Client& c, const std::string& id, double t
 nlohmann::json wait_state(httplib::Client& c, const std::string& id, const std::string& state,
                           double timeout_s = 20);
 
+// The variables worker_double.sh reads, which the server must pass to it
+// (workers get a minimal environment: --worker-env).
+inline constexpr const char* kDoubleEnv =
+    "SOUPUV_TEST_WORKER_MODE,SOUPUV_TEST_WORKER_SECONDS,SOUPUV_TEST_ESCAPE_READ,SOUPUV_TEST_ESCAPE_WRITE";
+
 // A server whose worker is tests/server/worker_double.sh in `mode` (uploads not
 // inspected), each job lasting `seconds` in the modes that sleep.
 std::unique_ptr<ServerProcess> with_double(const std::string& name, const std::string& mode,

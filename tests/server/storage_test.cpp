@@ -148,6 +148,7 @@ TEST(Storage, FailingJobStoreNeverTerminatesTheSupervisor) {
   Config config;
   config.workers = 1;
   config.job_timeout_s = 20;
+  config.worker_env = {"SOUPUV_TEST_WORKER_MODE", "SOUPUV_TEST_WORKER_SECONDS"};
   Metrics metrics;
   // The worker double reads its mode from the environment it inherits.
   setenv("SOUPUV_TEST_WORKER_MODE", "slow", 1);

@@ -72,7 +72,7 @@ TEST(Recovery, JobLostAtEveryRestartFailsAtTheAttemptLimit) {
   // server while it runs) must not loop forever across restarts.
   fs::path data = fresh_dir("poison");
   std::vector<std::string> args = {"--worker-bin", SOUPUV_WORKER_DOUBLE, "--validate-uploads", "false",
-                                   "--max-attempts", "2"};
+                                   "--max-attempts", "2", "--worker-env", kDoubleEnv};
   std::vector<std::string> env = {"SOUPUV_TEST_WORKER_MODE=slow", "SOUPUV_TEST_WORKER_SECONDS=60"};
   std::string id;
   {

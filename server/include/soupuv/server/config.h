@@ -30,6 +30,13 @@ struct Config {
   int max_attempts = 3;
   int result_ttl_s = 86400;             // finished jobs and their files
   int64_t worker_memory_mb = 8192;      // RLIMIT_AS per worker
+  int64_t worker_max_file_mb = 4096;    // RLIMIT_FSIZE per worker (largest file it may write)
+  // Landlock for workers (sandbox.h): auto (when the kernel has it), landlock
+  // (required: no start without it), off.
+  std::string worker_sandbox = "auto";
+  // Names of server environment variables passed to workers (which otherwise
+  // get only PATH, HOME, TMPDIR, LANG, OMP_NUM_THREADS).
+  std::vector<std::string> worker_env = {"ASAN_OPTIONS", "UBSAN_OPTIONS", "LSAN_OPTIONS"};
   std::string tokens_file;              // empty: no authentication (loopback only, see below)
   // Serve without tokens on a non-loopback --host. Off: such a start is
   // refused, so no shipped configuration is anonymous by accident.
