@@ -7,6 +7,8 @@
 #include <chrono>
 #include <filesystem>
 #include <fstream>
+#include <regex>
+#include <set>
 
 #include "soupuv/hash.h"
 #include "soupuv/server/app.h"
@@ -28,6 +30,7 @@ const std::vector<RouteInfo>& api_routes() {
       {"get", "/v1/jobs"},
       {"get", "/v1/jobs/{id}"},
       {"delete", "/v1/jobs/{id}"},
+      {"post", "/v1/jobs/{id}:cancel"},
       {"get", "/v1/jobs/{id}/result"},
       {"get", "/v1/jobs/{id}/diagnostics"},
       {"get", "/v1/jobs/{id}/uv-layout.png"},
@@ -38,6 +41,7 @@ const std::vector<RouteInfo>& api_routes() {
       {"get", "/healthz"},
       {"get", "/readyz"},
       {"get", "/metrics"},
+      {"get", "/problems/{slug}"},
   };
   return routes;
 }
@@ -59,6 +63,77 @@ void queue_full(httplib::Response& res, const ServerContext& ctx, int status) {
   set_problem(res, status, status == 429 ? "queue-full" : "unavailable",
               status == 429 ? "the job queue is full; retry after the indicated seconds"
                             : "the server is not accepting jobs right now");
+}
+
+// A client polling a job should come back when something may have changed:
+// soon for a running job, after about the queue's drain time for a queued one.
+void poll_hint(httplib::Response& res, const ServerContext& ctx, const Job& job) {
+  if (job.state == JobState::running) res.set_header("Retry-After", "1");
+  else if (job.state == JobState::queued) res.set_header("Retry-After", std::to_string(retry_after_seconds(ctx)));
+}
+
+// The list cursor is opaque to clients ("next_cursor" in, "cursor" back): the
+// store's position, base64url-encoded with a version tag, so clients cannot
+// build or depend on it and a later store can change what it holds.
+std::string encode_cursor(const std::string& store_cursor) {
+  if (store_cursor.empty()) return "";
+  static const char a[] = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789-_";
+  const std::string in = "c1:" + store_cursor;
+  std::string out;
+  for (size_t i = 0; i < in.size(); i += 3) {
+    uint32_t v = uint32_t(uint8_t(in[i])) << 16;
+    if (i + 1 < in.size()) v |= uint32_t(uint8_t(in[i + 1])) << 8;
+    if (i + 2 < in.size()) v |= uint32_t(uint8_t(in[i + 2]));
+    out += a[(v >> 18) & 63];
+    out += a[(v >> 12) & 63];
+    if (i + 1 < in.size()) out += a[(v >> 6) & 63];
+    if (i + 2 < in.size()) out += a[v & 63];
+  }
+  return out;
+}
+
+// The store cursor inside an API cursor; nullopt if it is not one of ours.
+std::optional<std::string> decode_cursor(const std::string& c) {
+  if (c.empty()) return std::string();
+  if (c.size() > 64) return std::nullopt;
+  std::string bytes;
+  uint32_t acc = 0;
+  int bits = 0;
+  for (char ch : c) {
+    int v = ch >= 'A' && ch <= 'Z' ? ch - 'A' : ch >= 'a' && ch <= 'z' ? ch - 'a' + 26
+          : ch >= '0' && ch <= '9' ? ch - '0' + 52 : ch == '-' ? 62 : ch == '_' ? 63 : -1;
+    if (v < 0) return std::nullopt;
+    acc = (acc << 6) | uint32_t(v);
+    bits += 6;
+    if (bits >= 8) {
+      bits -= 8;
+      bytes += char((acc >> bits) & 0xff);
+    }
+  }
+  if (bytes.rfind("c1:", 0) != 0) return std::nullopt;
+  std::string seq = bytes.substr(3);
+  if (seq.empty() || seq.size() > 19 || !std::all_of(seq.begin(), seq.end(), ::isdigit)) return std::nullopt;
+  return seq;
+}
+
+// Methods the API serves on `path` (from api_routes()), for Allow on 405.
+std::set<std::string> methods_for(const std::string& path) {
+  std::set<std::string> methods;
+  for (const auto& r : api_routes()) {
+    std::string re = std::regex_replace(r.path, std::regex("\\{[a-z]+\\}"), "[^/:]+");
+    if (std::regex_match(path, std::regex(re))) {
+      std::string m = r.method;
+      std::transform(m.begin(), m.end(), m.begin(), ::toupper);
+      methods.insert(m);
+    }
+  }
+  return methods;
+}
+
+std::string allowed_methods(const std::string& path) {
+  std::string out;
+  for (const auto& m : methods_for(path)) out += (out.empty() ? "" : ", ") + m;
+  return out;
 }
 
 void send_json(httplib::Response& res, int status, const nlohmann::json& j) {
@@ -359,6 +434,7 @@ void submit_job(ServerContext& ctx, const httplib::Request& req, httplib::Respon
       return set_problem(res, 422, "idempotency-key-reused", "this Idempotency-Key was used with a different request");
     res.set_header("Location", "/v1/jobs/" + stored->id);
     res.set_header("Idempotent-Replayed", "true");
+    poll_hint(res, ctx, *stored);
     return send_json(res, 202, to_json(*stored));
   }
   auto queued = ctx.scheduler->enqueue(id);
@@ -370,6 +446,7 @@ void submit_job(ServerContext& ctx, const httplib::Request& req, httplib::Respon
   ctx.metrics.upload_bytes(model_bytes);
   log::info("job submitted", {{"job", id}, {"bytes", model_bytes}, {"type", job.content_type}, {"params", params}});
   res.set_header("Location", "/v1/jobs/" + id);
+  poll_hint(res, ctx, *stored);
   send_json(res, 202, to_json(*stored));
 }
 
@@ -422,6 +499,7 @@ void register_routes(httplib::Server& http, ServerContext& ctx) {
   // ---- guards -------------------------------------------------------------
   auto guard = [&ctx](const httplib::Request& req, httplib::Response& res) -> bool {
     if (auto r = check_request_headers(req, ctx.config.max_upload_bytes)) {
+      if (r->status == 405) res.set_header("Allow", allowed_methods(req.path));
       set_problem(res, r->status, r->slug, r->detail);
       // The body (if any) is unread: the connection cannot carry another request.
       close_connection_after(res);
@@ -504,9 +582,19 @@ void register_routes(httplib::Server& http, ServerContext& ctx) {
   });
   // Errors httplib produces itself (unknown route, 400 on a bad request line,
   // 413 from its payload cap) get a problem body too.
-  http.set_error_handler(httplib::Server::HandlerWithResponse([](const httplib::Request&, httplib::Response& res) {
+  http.set_error_handler(httplib::Server::HandlerWithResponse([](const httplib::Request& req, httplib::Response& res) {
     close_connection_after(res);  // e.g. a 404 on a POST whose body nobody read
     if (!res.body.empty() || res.is_chunked_content_provider_) return httplib::Server::HandlerResponse::Unhandled;
+    // The router says 404 for a known path with another method: that is 405 + Allow.
+    if (res.status == 404) {
+      const auto methods = methods_for(req.path);
+      if (!methods.empty() && !methods.count(req.method)) {
+        const std::string allow = allowed_methods(req.path);
+        res.set_header("Allow", allow);
+        set_problem(res, 405, "method-not-allowed", req.method.substr(0, 10) + " is not served here; see Allow");
+        return httplib::Server::HandlerResponse::Handled;
+      }
+    }
     std::string slug = res.status == 404 ? "not-found" : res.status == 413 ? "too-large" : "bad-request";
     set_problem(res, res.status, slug, status_title(res.status));
     return httplib::Server::HandlerResponse::Handled;
@@ -545,29 +633,46 @@ void register_routes(httplib::Server& http, ServerContext& ctx) {
         return set_problem(res, 400, "invalid-query", "limit must be an integer in [1, 100]");
       limit = std::stoi(v);
     }
-    std::string cursor = req.has_param("cursor") ? req.get_param_value("cursor") : "";
-    if (cursor.size() > 20 || !std::all_of(cursor.begin(), cursor.end(), ::isdigit))
-      return set_problem(res, 400, "invalid-query", "cursor must come from next_cursor");
+    auto cursor = decode_cursor(req.has_param("cursor") ? req.get_param_value("cursor") : "");
+    if (!cursor) return set_problem(res, 400, "invalid-query", "cursor must come from next_cursor");
     auto tenant = request_tenant(ctx, req);
     if (!tenant) return set_problem(res, 401, "invalid-token", "the bearer token is not accepted");
-    auto page = ctx.store->list(state, limit, cursor, *tenant);
-    nlohmann::json out = {{"jobs", nlohmann::json::array()}, {"next_cursor", page.next_cursor.empty() ? nlohmann::json() : nlohmann::json(page.next_cursor)}};
+    auto page = ctx.store->list(state, limit, *cursor, *tenant);
+    nlohmann::json out = {{"jobs", nlohmann::json::array()},
+                          {"next_cursor", page.next_cursor.empty() ? nlohmann::json() : nlohmann::json(encode_cursor(page.next_cursor))}};
     for (const auto& j : page.jobs) out["jobs"].push_back(to_json(j));
     send_json(res, 200, out);
   });
   const std::string job = std::string("/v1/jobs/") + kJobIdPattern;
   http.Get(job, [&ctx](const httplib::Request& req, httplib::Response& res) {
-    if (auto j = job_or_404(ctx, req, res)) send_json(res, 200, to_json(*j));
+    if (auto j = job_or_404(ctx, req, res)) {
+      poll_hint(res, ctx, *j);
+      send_json(res, 200, to_json(*j));
+    }
+  });
+  // Cancel is its own action, so that DELETE only ever deletes: a retried
+  // DELETE can no longer remove the record of a job it meant to cancel.
+  http.Post(job + ":cancel", [&ctx](const httplib::Request& req, httplib::Response& res) {
+    auto j = job_or_404(ctx, req, res);
+    if (!j) return;
+    if (j->state == JobState::canceled) return send_json(res, 200, to_json(*j));  // a retry: already done
+    if (is_finished(j->state))
+      return set_problem(res, 409, "job-finished", std::string("the job already ") + to_string(j->state),
+                         {{"state", to_string(j->state)}});
+    ctx.store->request_cancel(j->id);
+    ctx.scheduler->cancel(j->id);
+    log::info("job cancel requested", {{"job", j->id}});
+    auto now = ctx.store->get(j->id);
+    send_json(res, now && now->state == JobState::canceled ? 200 : 202, to_json(now ? *now : *j));
   });
   http.Delete(job, [&ctx](const httplib::Request& req, httplib::Response& res) {
     auto j = job_or_404(ctx, req, res);
     if (!j) return;
-    if (!is_finished(j->state)) {
-      ctx.store->request_cancel(j->id);
-      ctx.scheduler->cancel(j->id);
-      log::info("job cancel requested", {{"job", j->id}});
-      return send_json(res, 202, to_json(*ctx.store->get(j->id)));
-    }
+    if (!is_finished(j->state))
+      return set_problem(res, 409, "job-not-finished",
+                         "the job is " + std::string(to_string(j->state)) + "; cancel it first: POST /v1/jobs/" +
+                             j->id + ":cancel",
+                         {{"state", to_string(j->state)}});
     std::error_code ec;
     fs::remove_all(ctx.data->job(j->id), ec);
     ctx.store->remove(j->id);
@@ -612,6 +717,18 @@ void register_routes(httplib::Server& http, ServerContext& ctx) {
   });
   http.Get("/metrics", [&ctx](const httplib::Request&, httplib::Response& res) {
     res.set_content(render_metrics(ctx), "text/plain; version=0.0.4");
+  });
+
+  // ---- problem types (the `type` of every problem+json answer) -------------
+  http.Get("/problems/([a-z-]+)", [](const httplib::Request& req, httplib::Response& res) {
+    const ProblemType* t = find_problem_type(req.matches[1]);
+    if (!t) return set_problem(res, 404, "not-found", "no such problem type");
+    // Static text from the table only: nothing from the request is echoed.
+    res.set_content(std::string("<!doctype html><html lang=\"en\"><meta charset=\"utf-8\"><title>") + t->title +
+                        "</title><h1>" + t->title + "</h1><p>" + t->meaning + "</p><p>Problem type <code>/problems/" +
+                        t->slug + "</code> of the soupuv API (RFC 9457). The answer's <code>detail</code> says what "
+                                  "happened to this request.</p></html>\n",
+                    "text/html; charset=utf-8");
   });
 
   // ---- upload page ----------------------------------------------------------
