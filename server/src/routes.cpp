@@ -708,11 +708,14 @@ void register_routes(httplib::Server& http, ServerContext& ctx) {
   });
   http.Get("/readyz", [&ctx](const httplib::Request&, httplib::Response& res) {
     const StorageStatus disk = storage_status(ctx.data->root(), ctx.config.min_free_mb << 20);
+    // An empty probe (the worker's --help unreadable) would run every job
+    // without progress, cache or parameters: not ready, rather than silently degraded.
     nlohmann::json checks = {{"worker_binary", !ctx.worker_bin.empty()},
+                             {"worker_capabilities", !ctx.caps.flags.empty()},
                              {"data_dir_writable", disk.writable},
                              {"disk_space", disk.enough_space},
                              {"queue_has_room", ctx.scheduler->has_room()}};
-    bool ok = checks["worker_binary"].get<bool>() && disk.writable && disk.enough_space;
+    bool ok = checks["worker_binary"].get<bool>() && !ctx.caps.flags.empty() && disk.writable && disk.enough_space;
     send_json(res, ok ? 200 : 503, {{"status", ok ? "ready" : "not ready"}, {"checks", checks}});
   });
   http.Get("/metrics", [&ctx](const httplib::Request&, httplib::Response& res) {

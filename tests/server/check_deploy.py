@@ -84,7 +84,8 @@ check("multi-stage on Debian 12", len(re.findall(r"^FROM debian:12", dockerfile,
 user = re.findall(r"^USER (\S+)", dockerfile, re.M)
 check("non-root USER", bool(user) and not user[-1].startswith("0") and user[-1] != "root", str(user))
 check("HEALTHCHECK on /healthz", re.search(r"HEALTHCHECK[\s\S]*?/healthz", dockerfile) is not None)
-docker_env = set(re.findall(r"(?<!-D)(SOUPUV_[A-Z_]+)=", dockerfile))
+# (SOUPUV_DEPS is install-deps.sh's build-stage switch, not a server option.)
+docker_env = set(re.findall(r"(?<!-D)(SOUPUV_[A-Z_]+)=", dockerfile)) - {"SOUPUV_DEPS"}
 check("Dockerfile env vars are server options", docker_env <= env_vars, str(docker_env - env_vars))
 m = re.search(r"SOUPUV_PORT=(\d+)", dockerfile)
 check("EXPOSE = SOUPUV_PORT", m is not None and f"EXPOSE {m.group(1)}" in dockerfile)
@@ -130,6 +131,23 @@ if os.path.exists(ignore):
     patterns = open(ignore).read().split()
     check(".dockerignore keeps build trees and secrets out", {"build*", "deploy/secrets", ".git"} <= set(patterns),
           str(patterns))
+
+# ---- a read-only root needs a writable /tmp; the image builds without test packages ----------
+csec = c.get("securityContext", {})
+if csec.get("readOnlyRootFilesystem"):
+    tmp = [m for m in c["volumeMounts"] if m["mountPath"] == "/tmp"]
+    check("k8s read-only root has a writable /tmp volume",
+          len(tmp) == 1 and "emptyDir" in vols.get(tmp[0]["name"], {}), str(c["volumeMounts"]))
+check("Dockerfile build stage installs build packages only", "SOUPUV_DEPS=build bash scripts/install-deps.sh" in dockerfile)
+build_list = subprocess.run(["bash", os.path.join(src, "scripts/install-deps.sh"), "--print"],
+                            env=dict(os.environ, SOUPUV_DEPS="build"), capture_output=True, text=True).stdout.split()
+test_only = {"libgtest-dev", "libgmock-dev", "chromium", "nginx-light", "clang", "python3-yaml"}
+check("SOUPUV_DEPS=build has no test-only package", bool(build_list) and not (set(build_list) & test_only),
+      str(set(build_list) & test_only))
+full_list = subprocess.run(["bash", os.path.join(src, "scripts/install-deps.sh"), "--print"],
+                           env={k: v for k, v in os.environ.items() if k != "SOUPUV_DEPS"},
+                           capture_output=True, text=True).stdout.split()
+check("the full dependency list still has the test packages", test_only <= set(full_list))
 
 # ---- nginx --------------------------------------------------------------------------------
 conf = open(os.path.join(src, "deploy/nginx/soupuv.conf")).read()
