@@ -102,6 +102,15 @@ App::App(Config config) {
   // drop idle upstream connections sooner (deploy/nginx: keepalive_timeout 4s)..
   http_.set_keep_alive_timeout(5);
   http_.set_keep_alive_max_count(100);
+  // Heads are read by the connection gate (bounded), bodies on the HTTP threads.
+  HttpServer::Limits limits;
+  limits.worker_threads = size_t(c.http_threads);
+  limits.gate.head_timeout = std::chrono::seconds(c.header_timeout_s);
+  limits.gate.idle_timeout = std::chrono::seconds(5);  // = the keep-alive timeout above
+  limits.gate.max_head_bytes = size_t(c.max_header_bytes);
+  limits.gate.max_head_lines = size_t(c.max_header_lines);
+  limits.min_body_rate = double(c.min_body_rate);
+  http_.set_limits(limits);
   // httplib's default also sets SO_REUSEPORT, which lets a second server
   // silently share the port with a live one; keep only SO_REUSEADDR.
   http_.set_socket_options([](socket_t sock) {
@@ -111,8 +120,6 @@ App::App(Config config) {
   // Headers and body go out in separate writes: without NODELAY, Nagle and the
   // client's delayed ACK add ~40 ms to every small response.
   http_.set_tcp_nodelay(true);
-  const int threads = c.http_threads;
-  http_.new_task_queue = [threads] { return new httplib::ThreadPool(size_t(threads)); };
   register_routes(http_, ctx_);
 }
 
@@ -167,6 +174,7 @@ void App::stop() {
   }
   sweep_cv_.notify_all();
   http_.stop();
+  http_.close_connections();
   if (metrics_http_) metrics_http_->stop();
   if (metrics_thread_.joinable()) metrics_thread_.join();
   if (ctx_.scheduler) ctx_.scheduler->stop();

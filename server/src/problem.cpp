@@ -60,6 +60,8 @@ const std::vector<ProblemType>& problem_types() {
       {"unsupported-encoding", "Unsupported encoding", "Content-Encoding is not accepted; send the file as is."},
       {"unsupported-media-type", "Unsupported media type",
        "Content-Type must be model/gltf-binary, model/gltf+json, application/octet-stream (Draco) or multipart/form-data."},
+      {"request-timeout", "Request timeout", "The request head did not arrive within the server's header timeout."},
+      {"header-too-large", "Header too large", "The request head has more bytes or lines than the server accepts."},
       {"method-not-allowed", "Method not allowed", "The resource does not take this method or a body; see the Allow header."},
   };
   return types;

@@ -259,22 +259,27 @@ std::optional<Rejection> inspect_upload(ServerContext& ctx, const fs::path& file
 // POST /v1/jobs. Order matters: cheap refusals (queue full, bad key) before the
 // body is read; the body streams to a temp directory under a byte budget; the
 // directory is renamed into place only once the upload is whole and checked.
-void submit_job(ServerContext& ctx, const httplib::Request& req, httplib::Response& res,
-                const httplib::ContentReader& content_reader) {
-  if (ctx.worker_bin.empty()) return set_problem(res, 503, "unavailable", "no worker binary is installed");
-  const auto tenant = request_tenant(ctx, req);
-  if (!tenant) return set_problem(res, 401, "invalid-token", "the bearer token is not accepted");
-  if (!ctx.scheduler->has_room()) return queue_full(res, ctx, 429);
-  // Head-of-line guard: uploads hold an HTTP thread for seconds (body, fsync,
-  // inspect); capped below the pool size, polls and health checks always find
-  // a free thread.
-  struct UploadSlot {
-    std::atomic<int>& n;
-    ~UploadSlot() { --n; }
-  } slot{ctx.uploads_in_flight};
-  if (ctx.uploads_in_flight.fetch_add(1) >= ctx.config.upload_slots()) {
+// The refusals of POST /v1/jobs that need no body: the same checks answer
+// `Expect: 100-continue` (so a client is told before it sends a byte) and
+// run again when the body path starts. `in_flight`: uploads in progress
+// counting this one (the body path has taken its slot). True if refused.
+bool refuse_submission(ServerContext& ctx, const httplib::Request& req, httplib::Response& res, int in_flight) {
+  if (ctx.worker_bin.empty()) {
+    set_problem(res, 503, "unavailable", "no worker binary is installed");
+    return true;
+  }
+  if (!request_tenant(ctx, req)) {
+    set_problem(res, 401, "invalid-token", "the bearer token is not accepted");
+    return true;
+  }
+  if (!ctx.scheduler->has_room()) {
+    queue_full(res, ctx, 429);
+    return true;
+  }
+  if (in_flight > ctx.config.upload_slots()) {
     res.set_header("Retry-After", "1");
-    return set_problem(res, 503, "uploads-busy", "too many uploads in progress; retry after the indicated seconds");
+    set_problem(res, 503, "uploads-busy", "too many uploads in progress; retry after the indicated seconds");
+    return true;
   }
   // A full disk is a refusal, not a failed job later: the upload, its
   // results and the job row all need room.
@@ -284,11 +289,29 @@ void submit_job(ServerContext& ctx, const httplib::Request& req, httplib::Respon
   if (free >= 0 && free - announced < (ctx.config.min_free_mb << 20)) {
     log::warn("upload refused: low disk space", {{"free_bytes", free}, {"min_free_mb", ctx.config.min_free_mb}});
     res.set_header("Retry-After", "60");
-    return set_problem(res, 503, "insufficient-storage", "the server is low on disk space; retry after the indicated seconds");
+    set_problem(res, 503, "insufficient-storage", "the server is low on disk space; retry after the indicated seconds");
+    return true;
   }
+  if (req.has_header("Idempotency-Key") && !valid_idempotency_key(req.get_header_value("Idempotency-Key"))) {
+    set_problem(res, 400, "bad-idempotency-key", "Idempotency-Key must be 1-128 characters of [A-Za-z0-9-_.:]");
+    return true;
+  }
+  return false;
+}
+
+void submit_job(ServerContext& ctx, const httplib::Request& req, httplib::Response& res,
+                const httplib::ContentReader& content_reader) {
+  // Head-of-line guard: uploads hold an HTTP thread for seconds (body, fsync,
+  // inspect); capped below the pool size, polls and health checks always find
+  // a free thread.
+  struct UploadSlot {
+    std::atomic<int>& n;
+    ~UploadSlot() { --n; }
+  } slot{ctx.uploads_in_flight};
+  if (refuse_submission(ctx, req, res, ++ctx.uploads_in_flight)) return;
+  const auto tenant = request_tenant(ctx, req);
+  if (!tenant) return set_problem(res, 401, "invalid-token", "the bearer token is not accepted");
   const std::string key = req.get_header_value("Idempotency-Key");
-  if (req.has_header("Idempotency-Key") && !valid_idempotency_key(key))
-    return set_problem(res, 400, "bad-idempotency-key", "Idempotency-Key must be 1-128 characters of [A-Za-z0-9-_.:]");
   std::string perr;
   auto query_params = params_from_query(req, perr);
   if (!query_params) return set_problem(res, 400, "invalid-params", perr);
@@ -529,8 +552,12 @@ void register_routes(httplib::Server& http, ServerContext& ctx) {
     }
     return true;
   };
-  http.set_expect_100_continue_handler([guard](const httplib::Request& req, httplib::Response& res) {
-    if (guard(req, res)) return 100;
+  http.set_expect_100_continue_handler([&ctx, guard](const httplib::Request& req, httplib::Response& res) {
+    // The body path's own refusals too (queue, slots, disk): a client that
+    // asked first must not upload a body only to hear 429 after it.
+    const bool submit = req.method == "POST" && req.path == "/v1/jobs";
+    if (guard(req, res) && !(submit && refuse_submission(ctx, req, res, ctx.uploads_in_flight.load() + 1))) return 100;
+    close_connection_after(res);
     // 0.11.4 writes this early answer without Content-Length and keeps the
     // connection open, so a client would wait for the close while uploading
     // its body; with the length it reads the answer and stops sending.

@@ -50,7 +50,13 @@ struct Config {
   std::vector<std::string> cors_origins;  // exact origins allowed; empty: none
   std::string worker_bin;               // soupuv CLI; empty: next to the server
   std::string web_dir;                  // upload page; empty: next to the server
-  int http_threads = 32;                // I/O threads (uploads, downloads, polls)
+  int http_threads = 32;                // threads serving requests (uploads, downloads, polls)
+  // Request heads are read by one epoll thread (connection_gate.h) within
+  // these bounds before any HTTP thread sees them.
+  int header_timeout_s = 10;            // first byte of a head to its end; then 408
+  int max_header_bytes = 16384;         // then 431
+  int max_header_lines = 100;           // then 431
+  int64_t min_body_rate = 1024;         // bytes/s a request body must average after 10 s
   // Uploads in flight (body streaming + inspect) at once; more get 503 +
   // Retry-After before their body is read. 0: half the HTTP threads, so the
   // other half always answers polls and health checks without queueing.
