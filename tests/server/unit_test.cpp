@@ -285,3 +285,47 @@ TEST(Files, AtomicWriteAndBoundedWriter) {
   w.finish();
   EXPECT_EQ(fs::file_size(dir / "b"), 5u);
 }
+
+namespace {
+int64_t peak_rss_kib() {
+  std::ifstream in("/proc/self/status");
+  std::string line;
+  while (std::getline(in, line))
+    if (line.rfind("VmHWM:", 0) == 0) return std::stoll(line.substr(6));
+  return -1;
+}
+}  // namespace
+
+// The glTF JSON of an upload is attacker text parsed inside the server: it is
+// scanned (SAX), not built into a document, and its nesting is capped.
+TEST(UploadCheck, JsonIsScannedNotBuiltAndNestingIsCapped) {
+  fs::path dir = soupuv::test::fresh_dir("json-scan");
+  {
+    // 40 MB of tiny elements: as a DOM (16+ bytes each, vectors doubling) this
+    // is several hundred MB; a scan needs almost nothing.
+    std::string text = R"({"asset":{"version":"2.0"},"extras":[)";
+    text.reserve(40 << 20);
+    while (text.size() < (40u << 20)) text += "0,";
+    text += R"(0],"buffers":[{"uri":"data:application/octet-stream;base64,AAAA"}]})";
+    std::ofstream(dir / "flat.gltf") << text;
+  }
+  const int64_t before = peak_rss_kib();
+  EXPECT_TRUE(check_model_file(dir / "flat.gltf", ModelKind::gltf).ok);
+  EXPECT_LT(peak_rss_kib() - before, 64 * 1024) << "KiB of peak RSS added by the check";
+
+  std::ofstream(dir / "deep.gltf") << R"({"extras":)" << std::string(100000, '[') << std::string(100000, ']') << "}";
+  auto deep = check_model_file(dir / "deep.gltf", ModelKind::gltf);
+  EXPECT_FALSE(deep.ok);
+  EXPECT_NE(deep.detail.find("nested too deeply"), std::string::npos) << deep.detail;
+  // The checks themselves are unchanged: external URIs, non-object roots, lists.
+  std::ofstream(dir / "ext.gltf") << R"({"images":[{"uri":"https://example.com/x.png"}]})";
+  EXPECT_EQ(check_model_file(dir / "ext.gltf", ModelKind::gltf).slug, "external-uri");
+  std::ofstream(dir / "uri-num.gltf") << R"({"buffers":[{"uri":{"nested":1}}]})";
+  EXPECT_EQ(check_model_file(dir / "uri-num.gltf", ModelKind::gltf).slug, "external-uri");
+  std::ofstream(dir / "root.gltf") << R"([1,2])";
+  EXPECT_FALSE(check_model_file(dir / "root.gltf", ModelKind::gltf).ok);
+  std::ofstream(dir / "list.gltf") << R"({"buffers":{"uri":"data:,"}})";
+  EXPECT_NE(check_model_file(dir / "list.gltf", ModelKind::gltf).detail.find("must be an array"), std::string::npos);
+  std::ofstream(dir / "broken.gltf") << R"({"buffers":[)";
+  EXPECT_NE(check_model_file(dir / "broken.gltf", ModelKind::gltf).detail.find("does not parse"), std::string::npos);
+}
