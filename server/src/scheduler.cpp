@@ -221,8 +221,9 @@ void Scheduler::worker_loop() {
     // Nothing may escape this thread (std::terminate would take every job
     // down): run_job's errors fail the job, and if even that cannot be
     // recorded the job stays unfinished in the store for the next start.
+    bool again = false;
     try {
-      run_job(id);
+      again = run_job(id);
     } catch (const std::exception& e) {
       log::error("job supervision failed", {{"job", id}, {"error", e.what()}});
       if (store_write("finish", [&] {
@@ -234,12 +235,18 @@ void Scheduler::worker_loop() {
     }
     std::lock_guard lock(mu_);
     running_.erase(id);
+    // Only now, with its running_ entry gone, may another thread take it:
+    // behind the jobs already waiting, so a poison job cannot monopolise a worker.
+    if (again && !stopping_) {
+      queue_.push_back(id);
+      cv_.notify_one();
+    }
   }
 }
 
-void Scheduler::run_job(const std::string& id) {
+bool Scheduler::run_job(const std::string& id) {
   auto job = store_.get(id);
-  if (!job || is_finished(job->state)) return;
+  if (!job || is_finished(job->state)) return false;
   std::shared_ptr<std::atomic<bool>> cancel;
   {
     std::lock_guard lock(mu_);
@@ -248,7 +255,7 @@ void Scheduler::run_job(const std::string& id) {
   if (job->cancel_requested) {
     if (store_write("finish", [&] { store_.finish(id, JobState::canceled, std::nullopt, {}, now_seconds()); }))
       metrics_.job_finished("canceled");
-    return;
+    return false;
   }
   // A worker binary being replaced (upgrade, rebuild) is briefly missing: wait
   // for it rather than failing the job; after 30 s the job fails with a reason.
@@ -256,7 +263,7 @@ void Scheduler::run_job(const std::string& id) {
   for (int i = 0; i < 60 && access(worker_bin_.c_str(), X_OK) != 0; ++i) {
     {
       std::lock_guard lock(mu_);
-      if (stopping_) return;
+      if (stopping_) return false;
     }
     std::this_thread::sleep_for(std::chrono::milliseconds(500));
   }
@@ -267,11 +274,7 @@ void Scheduler::run_job(const std::string& id) {
   // Without a record of the attempt the run would not count (nor its result
   // be recorded): put the job back at the end of the queue and try again
   // after the next jobs; store_write's retries are the back-off.
-  if (!store_write("mark_running", [&] { store_.mark_running(id, now_seconds()); })) {
-    std::lock_guard lock(mu_);
-    if (!stopping_) queue_.push_back(id);
-    return;
-  }
+  if (!store_write("mark_running", [&] { store_.mark_running(id, now_seconds()); })) return true;
   log::info("job started", {{"job", id}, {"attempt", job->attempts + 1}});
 
   std::vector<std::string> argv = {worker_bin_, "map", (dir / job->input_file).string(), "-o",
@@ -380,7 +383,7 @@ void Scheduler::run_job(const std::string& id) {
     std::lock_guard lock(mu_);
     if (stopping_ && verdict.state == JobState::canceled) {
       auto fresh = store_.get(id);
-      if (fresh && !fresh->cancel_requested) return;
+      if (fresh && !fresh->cancel_requested) return false;
     }
   }
   const int attempt = job->attempts + 1;
@@ -389,12 +392,7 @@ void Scheduler::run_job(const std::string& id) {
       fs::remove_all(work);
       log::warn("job attempt failed, retrying",
                 {{"job", id}, {"attempt", attempt}, {"error", verdict.error->detail}});
-      if (!store_write("requeue", [&] { store_.requeue(id); })) return;
-      std::lock_guard lock(mu_);
-      // Behind the jobs already waiting: a poison job must not monopolise a worker.
-      if (!stopping_) queue_.push_back(id);
-      cv_.notify_one();
-      return;
+      return store_write("requeue", [&] { store_.requeue(id); });
     }
     if (attempt > 1) verdict.error->detail += " (on each of " + std::to_string(attempt) + " attempts)";
   }
@@ -429,12 +427,13 @@ void Scheduler::run_job(const std::string& id) {
   // If the outcome cannot be recorded the job stays running in the store and
   // the next start runs it again (bounded by --max-attempts).
   if (!store_write("finish", [&] { store_.finish(id, verdict.state, verdict.error, outputs, now_seconds()); }))
-    return;
+    return false;
   metrics_.job_finished(to_string(verdict.state));
   nlohmann::json fields = {{"job", id}, {"state", to_string(verdict.state)}, {"seconds", outcome.seconds},
                            {"stage_seconds", stage_seconds}};
   if (verdict.error) fields["error"] = verdict.error->detail;
   log::info("job finished", fields);
+  return false;
 }
 
 }  // namespace soupuv::server

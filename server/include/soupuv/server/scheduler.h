@@ -52,7 +52,9 @@ class Scheduler {
 
  private:
   void worker_loop();
-  void run_job(const std::string& id);
+  // True when the job should run again (a retryable failure, or its start
+  // could not be recorded); worker_loop re-queues it once it is off running_.
+  bool run_job(const std::string& id);
   // Runs a store write, retrying a failing one (SQLITE_BUSY, a disk freed by
   // the sweeper) for a few seconds; false, logged, if it never succeeds.
   bool store_write(const char* what, const std::function<void()>& write);
