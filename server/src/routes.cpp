@@ -14,6 +14,7 @@
 #include "soupuv/server/app.h"
 #include "soupuv/server/http_guards.h"
 #include "soupuv/server/http_server.h"
+#include "soupuv/server/list_cursor.h"
 #include "soupuv/server/log.h"
 #include "soupuv/server/problem.h"
 #include "soupuv/server/sandbox.h"
@@ -72,61 +73,21 @@ void poll_hint(httplib::Response& res, const ServerContext& ctx, const Job& job)
   else if (job.state == JobState::queued) res.set_header("Retry-After", std::to_string(retry_after_seconds(ctx)));
 }
 
-// The list cursor is opaque to clients ("next_cursor" in, "cursor" back): the
-// store's position, base64url-encoded with a version tag, so clients cannot
-// build or depend on it and a later store can change what it holds.
-std::string encode_cursor(const std::string& store_cursor) {
-  if (store_cursor.empty()) return "";
-  static const char a[] = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789-_";
-  const std::string in = "c1:" + store_cursor;
-  std::string out;
-  for (size_t i = 0; i < in.size(); i += 3) {
-    uint32_t v = uint32_t(uint8_t(in[i])) << 16;
-    if (i + 1 < in.size()) v |= uint32_t(uint8_t(in[i + 1])) << 8;
-    if (i + 2 < in.size()) v |= uint32_t(uint8_t(in[i + 2]));
-    out += a[(v >> 18) & 63];
-    out += a[(v >> 12) & 63];
-    if (i + 1 < in.size()) out += a[(v >> 6) & 63];
-    if (i + 2 < in.size()) out += a[v & 63];
-  }
-  return out;
-}
-
-// The store cursor inside an API cursor; nullopt if it is not one of ours.
-std::optional<std::string> decode_cursor(const std::string& c) {
-  if (c.empty()) return std::string();
-  if (c.size() > 64) return std::nullopt;
-  std::string bytes;
-  uint32_t acc = 0;
-  int bits = 0;
-  for (char ch : c) {
-    int v = ch >= 'A' && ch <= 'Z' ? ch - 'A' : ch >= 'a' && ch <= 'z' ? ch - 'a' + 26
-          : ch >= '0' && ch <= '9' ? ch - '0' + 52 : ch == '-' ? 62 : ch == '_' ? 63 : -1;
-    if (v < 0) return std::nullopt;
-    acc = (acc << 6) | uint32_t(v);
-    bits += 6;
-    if (bits >= 8) {
-      bits -= 8;
-      bytes += char((acc >> bits) & 0xff);
-    }
-  }
-  if (bytes.rfind("c1:", 0) != 0) return std::nullopt;
-  std::string seq = bytes.substr(3);
-  if (seq.empty() || seq.size() > 19 || !std::all_of(seq.begin(), seq.end(), ::isdigit)) return std::nullopt;
-  return seq;
-}
-
 // Methods the API serves on `path` (from api_routes()), for Allow on 405.
 std::set<std::string> methods_for(const std::string& path) {
-  std::set<std::string> methods;
-  for (const auto& r : api_routes()) {
-    std::string re = std::regex_replace(r.path, std::regex("\\{[a-z]+\\}"), "[^/:]+");
-    if (std::regex_match(path, std::regex(re))) {
+  // The route table as (regex, METHOD), compiled once.
+  static const std::vector<std::pair<std::regex, std::string>> routes = [] {
+    std::vector<std::pair<std::regex, std::string>> out;
+    for (const auto& r : api_routes()) {
       std::string m = r.method;
       std::transform(m.begin(), m.end(), m.begin(), ::toupper);
-      methods.insert(m);
+      out.emplace_back(std::regex(std::regex_replace(r.path, std::regex("\\{[a-z]+\\}"), "[^/:]+")), m);
     }
-  }
+    return out;
+  }();
+  std::set<std::string> methods;
+  for (const auto& [re, m] : routes)
+    if (std::regex_match(path, re)) methods.insert(m);
   return methods;
 }
 
@@ -660,13 +621,13 @@ void register_routes(httplib::Server& http, ServerContext& ctx) {
         return set_problem(res, 400, "invalid-query", "limit must be an integer in [1, 100]");
       limit = std::stoi(v);
     }
-    auto cursor = decode_cursor(req.has_param("cursor") ? req.get_param_value("cursor") : "");
+    auto cursor = decode_list_cursor(req.has_param("cursor") ? req.get_param_value("cursor") : "");
     if (!cursor) return set_problem(res, 400, "invalid-query", "cursor must come from next_cursor");
     auto tenant = request_tenant(ctx, req);
     if (!tenant) return set_problem(res, 401, "invalid-token", "the bearer token is not accepted");
     auto page = ctx.store->list(state, limit, *cursor, *tenant);
     nlohmann::json out = {{"jobs", nlohmann::json::array()},
-                          {"next_cursor", page.next_cursor.empty() ? nlohmann::json() : nlohmann::json(encode_cursor(page.next_cursor))}};
+                          {"next_cursor", page.next_cursor.empty() ? nlohmann::json() : nlohmann::json(encode_list_cursor(page.next_cursor))}};
     for (const auto& j : page.jobs) out["jobs"].push_back(to_json(j));
     send_json(res, 200, out);
   });
