@@ -12,6 +12,7 @@
 #include <cerrno>
 #include <cstdint>
 #include <cstdlib>
+#include <cstdio>
 #include <cstring>
 
 // Debian 12's kernel headers describe Landlock ABI 2; newer rights are
@@ -159,10 +160,13 @@ bool confine_worker(const Config& config, const SandboxPaths& paths, const std::
                     ProcessLimits& limits, std::string& error) {
   limits.file_size_bytes = config.worker_max_file_mb << 20;
   limits.open_files = 256;  // the pipeline needs a few dozen; a parser bug that leaks fds stops here
-  // RLIMIT_NPROC counts every task of the uid: the server's threads, every
-  // worker's OpenMP threads, plus a margin; what it stops is a fork bomb.
-  limits.processes = own_task_count() + config.workers * (config.threads_per_job() + 16) + 64;
+  // RLIMIT_NPROC counts every task of the real uid on the machine (for a
+  // root server without capabilities, every root process): what the uid runs
+  // now, every worker's threads and a wide margin for the uid's other
+  // processes starting meanwhile; what it stops is a fork bomb.
+  limits.processes = uid_task_count(getuid()) + config.workers * (config.threads_per_job() + 16) + 512;
   limits.cwd = scratch;
+  limits.drop_capabilities = config.worker_sandbox != "off";
   if (!sandbox_active(config)) return true;
   limits.landlock_ruleset = build_landlock_ruleset(paths, error);
   return limits.landlock_ruleset >= 0;
@@ -173,13 +177,26 @@ RulesetCloser::~RulesetCloser() {
   fd = -1;
 }
 
-int own_task_count() {
+int uid_task_count(uid_t uid) {
   int n = 0;
-  if (DIR* d = opendir("/proc/self/task")) {
-    while (dirent* e = readdir(d))
-      if (e->d_name[0] != '.') ++n;
-    closedir(d);
+  DIR* proc = opendir("/proc");
+  if (!proc) return 0;
+  while (dirent* e = readdir(proc)) {
+    if (e->d_name[0] < '0' || e->d_name[0] > '9') continue;
+    FILE* f = std::fopen((std::string("/proc/") + e->d_name + "/status").c_str(), "r");
+    if (!f) continue;  // gone meanwhile
+    char line[256];
+    bool mine = false;
+    int threads = 0;
+    while (std::fgets(line, sizeof line, f)) {
+      unsigned real = 0;
+      if (std::sscanf(line, "Uid: %u", &real) == 1) mine = real == uid;
+      std::sscanf(line, "Threads: %d", &threads);
+    }
+    std::fclose(f);
+    if (mine) n += threads;
   }
+  closedir(proc);
   return n;
 }
 

@@ -1,6 +1,7 @@
 #include "soupuv/server/worker_process.h"
 
 #include <fcntl.h>
+#include <linux/capability.h>
 #include <linux/landlock.h>
 #include <poll.h>
 #include <signal.h>
@@ -46,6 +47,21 @@ void close_inherited_fds() {
   for (rlim_t fd = 3; fd < top; ++fd) close(int(fd));
 }
 
+// Empties the bounding set first (an exec by uid 0 would otherwise be given
+// every capability again), then the ambient set, then this process's own
+// sets. Raw system calls only (async-signal-safe). False if any step failed
+// (expected for a non-root caller, which has nothing to drop).
+bool drop_all_capabilities() {
+  bool ok = true;
+  for (int cap = 0; cap < 64; ++cap)
+    if (prctl(PR_CAPBSET_DROP, cap, 0, 0, 0) != 0 && errno != EINVAL) ok = false;
+  if (prctl(PR_CAP_AMBIENT, PR_CAP_AMBIENT_CLEAR_ALL, 0, 0, 0) != 0) ok = false;
+  __user_cap_header_struct header{_LINUX_CAPABILITY_VERSION_3, 0};
+  __user_cap_data_struct data[2] = {};
+  if (syscall(SYS_capset, &header, data) != 0) ok = false;
+  return ok;
+}
+
 // Only async-signal-safe calls between fork and exec: everything is prepared
 // before the fork.
 [[noreturn]] void exec_child(char* const* argv, char* const* envp, const ProcessLimits& limits,
@@ -89,6 +105,8 @@ void close_inherited_fds() {
     if (syscall(SYS_landlock_restrict_self, limits.landlock_ruleset, 0) != 0)
       die("soupuv: worker sandbox could not be applied\n");
   }
+  if (limits.drop_capabilities && !drop_all_capabilities() && geteuid() == 0)
+    die("soupuv: worker sandbox: capabilities could not be dropped\n");
   close_inherited_fds();  // the ruleset fd too
   if (limits.open_files > 0) set_limit(RLIMIT_NOFILE, limits.open_files);
   sigset_t empty;

@@ -52,6 +52,9 @@ TEST(Sandbox, HostileWorkerIsDeniedEverythingAndItsJobFails) {
   EXPECT_NE(log.find("escape: denied read /proc/"), std::string::npos) << log;
   EXPECT_NE(log.find("escape: denied write"), std::string::npos) << log;
   EXPECT_FALSE(fs::exists(outside));
+  // No capabilities, even when the server runs as root (as in CI).
+  EXPECT_NE(log.find("escape: CapEff:\t0000000000000000"), std::string::npos) << log;
+  EXPECT_NE(log.find("escape: CapBnd:\t0000000000000000"), std::string::npos) << log;
   // Its environment: the minimal set and what --worker-env names, nothing else.
   const std::string env = log.substr(log.find("escape: environment follows"));
   EXPECT_NE(env.find("HOME=" + (data / "jobs" / id / "work").string()), std::string::npos) << env;

@@ -9,8 +9,9 @@
 #   badprogress - a progress line whose fraction is not a number, then as slow
 #   escape - what a hostile model's parser would try: read the files named by
 #            SOUPUV_TEST_ESCAPE_READ (colon-separated) and the server's
-#            environment, write SOUPUV_TEST_ESCAPE_WRITE, print its own
-#            environment, flood stdout (8 MB); reports each attempt on stderr
+#            environment, write SOUPUV_TEST_ESCAPE_WRITE, print its
+#            capabilities and environment, flood stdout (8 MB); reports each
+#            attempt on stderr
 case "$1" in
   --help) echo "usage: soupuv map IN -o OUT --diagnostics D --progress json --method M --texture-size N; soupuv inspect IN"; exit 0 ;;
   inspect) echo '{"triangles":1}'; exit 0 ;;
@@ -38,6 +39,8 @@ case "$mode" in
     unset IFS
     if echo escaped > "$SOUPUV_TEST_ESCAPE_WRITE" 2>/dev/null; then echo "escape: wrote outside" >&2
     else echo "escape: denied write" >&2; fi
+    # Its capabilities, read by the shell itself (its own /proc entry).
+    while read -r line; do case "$line" in CapEff:*|CapBnd:*) echo "escape: $line" >&2 ;; esac; done < /proc/self/status
     echo "escape: environment follows" >&2
     env >&2
     yes | head -c 8000000

@@ -16,6 +16,8 @@
 // landlock_restrict_self, which are async-signal-safe system calls.
 #pragma once
 
+#include <sys/types.h>
+
 #include <string>
 #include <vector>
 
@@ -53,8 +55,9 @@ std::vector<std::string> worker_environment(const std::string& scratch, const st
 bool sandbox_active(const Config& config);
 
 // Fills the confinement every worker gets: RLIMIT_FSIZE (--worker-max-file-mb),
-// RLIMIT_NOFILE 256, RLIMIT_NPROC with room for the server's own threads and
-// every worker's, the scratch directory as cwd, and, when sandbox_active, a
+// RLIMIT_NOFILE 256, RLIMIT_NPROC with room for the uid's tasks and every
+// worker's, the scratch directory as cwd, every capability dropped (unless
+// --worker-sandbox off), and, when sandbox_active, a
 // Landlock ruleset for `paths` (the caller closes limits.landlock_ruleset).
 // False with `error` when the sandbox is due but cannot be built: the caller
 // must not run the worker (fail closed).
@@ -67,8 +70,8 @@ struct RulesetCloser {
   ~RulesetCloser();
 };
 
-// Tasks (threads) of this process now, for RLIMIT_NPROC headroom (the limit
-// counts every task of the uid, the server's own threads included).
-int own_task_count();
+// Tasks (threads) of every process of real uid `uid` now, for RLIMIT_NPROC
+// headroom (the limit counts every task of the uid, the server's included).
+int uid_task_count(uid_t uid);
 
 }  // namespace soupuv::server

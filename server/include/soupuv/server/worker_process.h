@@ -30,6 +30,11 @@ struct ProcessLimits {
   int processes = 0;                // RLIMIT_NPROC (counts every task of the uid); 0: unchanged
   int64_t stdout_bytes = 1 << 20;   // more stdout than this: the worker is killed (output_exceeded)
   std::string cwd;                  // working directory of the child; empty: unchanged
+  // Drop every capability (bounding, ambient, effective, permitted,
+  // inheritable) before exec: a worker of a server running as root keeps
+  // uid 0 but none of root's powers (no module loading, raw sockets,
+  // signalling others, ...). The child fails (exit 125) if root cannot drop them.
+  bool drop_capabilities = false;
   // Landlock ruleset fd (sandbox.h) the child restricts itself with; -1: none.
   // Owned by the caller; the child fails (exit 125) rather than run unconfined.
   int landlock_ruleset = -1;
