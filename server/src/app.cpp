@@ -91,8 +91,9 @@ App::App(Config config) {
 
   ctx_.scheduler = std::make_unique<Scheduler>(ctx_.config, ctx_.worker_bin, ctx_.caps, *ctx_.store,
                                                *ctx_.data, ctx_.metrics);
-  // Hardening: short timeouts so slow clients cannot hold I/O threads, a body
-  // cap in httplib itself as a second line behind the Content-Length guard.
+  // Hardening: read/write timeouts for bodies and answers (heads are the
+  // connection gate's, below), a body cap in httplib itself as a second line
+  // behind the Content-Length guard.
   http_.set_payload_max_length(size_t(c.max_upload_bytes));
   http_.set_read_timeout(30, 0);
   http_.set_write_timeout(30, 0);
