@@ -149,6 +149,9 @@ HttpServer::~HttpServer() { close_connections(); }
 
 void HttpServer::set_limits(const Limits& limits) {
   close_connections();
+  gate_.reset();
+  pool_.reset();
+  closed_ = false;
   limits_ = limits;
   pool_ = std::make_unique<httplib::ThreadPool>(limits_.worker_threads);
   gate_ = std::make_unique<ConnectionGate>(limits_.gate, [this](int fd, std::string bytes, size_t served) {
@@ -195,11 +198,15 @@ void HttpServer::serve(int fd, std::string buffered, size_t served) {
   }
 }
 
+// The gate and the pool stay allocated until the destructor: httplib's
+// accept hand-off may still be finishing on another thread after stop(), and
+// a stopped gate just closes what it is handed.
 void HttpServer::close_connections() {
+  std::lock_guard lock(close_mu_);
+  if (closed_) return;
+  closed_ = true;
   if (gate_) gate_->stop();  // later hand-backs close their fd at once
   if (pool_) pool_->shutdown();
-  pool_.reset();
-  gate_.reset();
 }
 
 }  // namespace soupuv::server

@@ -24,6 +24,7 @@
 #include <httplib.h>
 
 #include <memory>
+#include <mutex>
 
 #include "soupuv/server/connection_gate.h"
 
@@ -52,6 +53,8 @@ class HttpServer : public httplib::Server {
   Limits limits_;
   std::unique_ptr<ConnectionGate> gate_;
   std::unique_ptr<httplib::ThreadPool> pool_;
+  std::mutex close_mu_;
+  bool closed_ = false;
 };
 
 // For the request being handled on this thread: answer with "Connection:
