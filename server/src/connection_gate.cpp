@@ -145,6 +145,8 @@ void ConnectionGate::on_readable(int fd, Conn& c) {
   char buf[8192];
   for (;;) {
     // A head is read no further than its limit (+1 to notice the excess).
+    if (!c.lingering && c.buffered.size() > limits_.max_head_bytes)  // e.g. a huge pipelined leftover
+      return refuse(fd, c, 431, "header-too-large", "the request head is larger than the server accepts");
     size_t want = c.lingering ? sizeof buf : std::min(sizeof buf, limits_.max_head_bytes + 1 - c.buffered.size());
     ssize_t n = recv(fd, buf, want, 0);
     if (n < 0 && errno == EINTR) continue;
