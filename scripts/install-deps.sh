@@ -1,16 +1,31 @@
 #!/usr/bin/env bash
 # Installs every Debian package soupuv needs to build, test and run. Idempotent:
 # packages already present are skipped, so a second run costs one dpkg query.
+#   SOUPUV_DEPS=build  only what building the binaries needs (the Docker build
+#                      stage: no test frameworks, browsers or web servers)
+#   --print            list the packages and exit, installing nothing
 set -euo pipefail
 
-packages=(
+build_packages=(
   build-essential cmake ninja-build ccache pkg-config git
   libcpp-httplib-dev nlohmann-json3-dev libtinygltf-dev libstb-dev libdraco-dev
   libeigen3-dev libcgal-dev libgmp-dev libmpfr-dev libboost-dev
-  libspdlog-dev libfmt-dev libgtest-dev libgmock-dev libsqlite3-dev libssl-dev
+  libspdlog-dev libfmt-dev libsqlite3-dev libssl-dev
+)
+# Tests only: GoogleTest, clang + libFuzzer and OpenMP for it (fuzz target),
+# chromium (browser test), nginx (reverse-proxy test), curl, python3-yaml
+# (deploy-file checks).
+test_packages=(
+  libgtest-dev libgmock-dev
   clang libclang-rt-14-dev libomp-dev
   chromium nginx-light curl python3-yaml python3-numpy python3-scipy
 )
+packages=("${build_packages[@]}")
+[ "${SOUPUV_DEPS:-all}" = build ] || packages+=("${test_packages[@]}")
+if [ "${1:-}" = --print ]; then
+  printf '%s\n' "${packages[@]}"
+  exit 0
+fi
 
 SUDO=""
 [ "$(id -u)" -eq 0 ] || SUDO="sudo"

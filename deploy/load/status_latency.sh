@@ -28,6 +28,12 @@ work=$(mktemp -d)
 submitted=()
 cleanup() {
   kill $(jobs -p) 2>/dev/null
+  # Cancel what still runs, then delete (a job still stopping answers 409
+  # to DELETE and goes with its TTL).
+  for id in "${submitted[@]}" $(cat "$work/uploaded" 2>/dev/null); do
+    curl -sS -o /dev/null "${h[@]}" -X POST "$url/v1/jobs/$id:cancel" || true
+  done
+  sleep 1
   for id in "${submitted[@]}" $(cat "$work/uploaded" 2>/dev/null); do
     curl -sS -o /dev/null "${h[@]}" -X DELETE "$url/v1/jobs/$id" || true
   done

@@ -9,6 +9,8 @@
 #include "soupuv/server/cache_prune.h"
 #include "soupuv/server/log.h"
 #include "soupuv/server/problem.h"
+#include "soupuv/server/sandbox.h"
+#include "soupuv/server/storage.h"
 
 namespace soupuv::server {
 namespace fs = std::filesystem;
@@ -64,7 +66,13 @@ App::App(Config config) {
   const Config& c = ctx_.config;
   ctx_.data = std::make_unique<DataDir>(fs::absolute(c.data_dir));
   ctx_.store = with_memory_snapshot(open_sqlite_job_store(ctx_.data->database().string()));
-  if (!c.tokens_file.empty()) ctx_.tokens = TokenSet::load(c.tokens_file);
+  if (!c.tokens_file.empty()) ctx_.tokens.set(TokenSet::load(c.tokens_file));
+  if (c.worker_sandbox == "landlock" && landlock_abi() == 0)
+    throw std::runtime_error("--worker-sandbox landlock: this kernel has no Landlock (Linux >= 5.13 with landlock "
+                             "in the LSM list); use --worker-sandbox auto or off to run workers unconfined");
+  if (!sandbox_active(c))
+    log::warn("workers run without the Landlock sandbox: a hostile model's parser could read the server's files",
+              {{"worker_sandbox", c.worker_sandbox}, {"landlock_abi", landlock_abi()}});
   ctx_.worker_bin = find_worker_binary(c.worker_bin);
   if (!c.worker_bin.empty() && ctx_.worker_bin.empty())
     throw std::runtime_error("--worker-bin " + c.worker_bin + " is not an executable file");
@@ -83,8 +91,9 @@ App::App(Config config) {
 
   ctx_.scheduler = std::make_unique<Scheduler>(ctx_.config, ctx_.worker_bin, ctx_.caps, *ctx_.store,
                                                *ctx_.data, ctx_.metrics);
-  // Hardening: short timeouts so slow clients cannot hold I/O threads, a body
-  // cap in httplib itself as a second line behind the Content-Length guard.
+  // Hardening: read/write timeouts for bodies and answers (heads are the
+  // connection gate's, below), a body cap in httplib itself as a second line
+  // behind the Content-Length guard.
   http_.set_payload_max_length(size_t(c.max_upload_bytes));
   http_.set_read_timeout(30, 0);
   http_.set_write_timeout(30, 0);
@@ -94,6 +103,15 @@ App::App(Config config) {
   // drop idle upstream connections sooner (deploy/nginx: keepalive_timeout 4s)..
   http_.set_keep_alive_timeout(5);
   http_.set_keep_alive_max_count(100);
+  // Heads are read by the connection gate (bounded), bodies on the HTTP threads.
+  HttpServer::Limits limits;
+  limits.worker_threads = size_t(c.http_threads);
+  limits.gate.head_timeout = std::chrono::seconds(c.header_timeout_s);
+  limits.gate.idle_timeout = std::chrono::seconds(5);  // = the keep-alive timeout above
+  limits.gate.max_head_bytes = size_t(c.max_header_bytes);
+  limits.gate.max_head_lines = size_t(c.max_header_lines);
+  limits.min_body_rate = double(c.min_body_rate);
+  http_.set_limits(limits);
   // httplib's default also sets SO_REUSEPORT, which lets a second server
   // silently share the port with a live one; keep only SO_REUSEADDR.
   http_.set_socket_options([](socket_t sock) {
@@ -103,8 +121,6 @@ App::App(Config config) {
   // Headers and body go out in separate writes: without NODELAY, Nagle and the
   // client's delayed ACK add ~40 ms to every small response.
   http_.set_tcp_nodelay(true);
-  const int threads = c.http_threads;
-  http_.new_task_queue = [threads] { return new httplib::ThreadPool(size_t(threads)); };
   register_routes(http_, ctx_);
 }
 
@@ -112,6 +128,20 @@ App::~App() { stop(); }
 
 bool App::bind() {
   const Config& c = ctx_.config;
+  if (c.metrics_port > 0) {
+    metrics_http_ = std::make_unique<httplib::Server>();
+    metrics_http_->Get("/metrics", [this](const httplib::Request&, httplib::Response& res) {
+      res.set_content(render_metrics(ctx_), "text/plain; version=0.0.4");
+    });
+    metrics_http_->set_error_handler([](const httplib::Request&, httplib::Response& res) {
+      set_problem(res, res.status == 0 ? 404 : res.status, "not-found", "this listener serves /metrics only");
+    });
+    metrics_http_->new_task_queue = [] { return new httplib::ThreadPool(2); };
+    if (!metrics_http_->bind_to_port(c.metrics_host, c.metrics_port)) {
+      log::error("cannot bind the metrics listener", {{"host", c.metrics_host}, {"port", c.metrics_port}});
+      return false;
+    }
+  }
   if (c.port == 0) {
     port_ = http_.bind_to_any_port(c.host);
     if (port_ <= 0) return false;
@@ -127,10 +157,13 @@ void App::serve() {
   size_t recovered = ctx_.scheduler->recover();
   ctx_.scheduler->start();
   sweeper_ = std::thread([this] { sweep_loop(); });
+  if (metrics_http_) metrics_thread_ = std::thread([this] { metrics_http_->listen_after_bind(); });
   log::info("listening", {{"host", ctx_.config.host}, {"port", port_}, {"data_dir", ctx_.data->root().string()},
                           {"workers", ctx_.config.workers}, {"queue_capacity", ctx_.config.queue_capacity},
                           {"threads_per_job", ctx_.config.threads_per_job()}, {"recovered_jobs", recovered},
-                          {"auth", ctx_.tokens.enabled()}});
+                          {"auth", ctx_.tokens.enabled()}, {"metrics_port", ctx_.config.metrics_port},
+                          {"worker_sandbox", sandbox_active(ctx_.config) ? "landlock" : "off"},
+                          {"landlock_abi", landlock_abi()}});
   http_.listen_after_bind();
 }
 
@@ -142,9 +175,30 @@ void App::stop() {
   }
   sweep_cv_.notify_all();
   http_.stop();
+  http_.close_connections();
+  if (metrics_http_) metrics_http_->stop();
+  if (metrics_thread_.joinable()) metrics_thread_.join();
   if (ctx_.scheduler) ctx_.scheduler->stop();
   if (sweeper_.joinable()) sweeper_.join();
   log::info("stopped");
+}
+
+bool App::reload_tokens() {
+  const std::string& path = ctx_.config.tokens_file;
+  if (path.empty()) {
+    log::info("SIGHUP: no --tokens-file to reload");
+    return false;
+  }
+  try {
+    TokenSet next = TokenSet::load(path);
+    const size_t n = next.size();
+    ctx_.tokens.set(std::move(next));
+    log::info("tokens reloaded", {{"tokens", n}});
+    return true;
+  } catch (const std::exception& e) {
+    log::error("tokens file not reloaded; the previous tokens stay in force", {{"error", e.what()}});
+    return false;
+  }
 }
 
 void App::sweep_loop() {
@@ -166,6 +220,11 @@ void App::sweep_loop() {
       if (pruned.files_removed > 0)
         log::info("field cache pruned", {{"files", pruned.files_removed}, {"bytes_before", pruned.bytes_before},
                                          {"bytes_after", pruned.bytes_after}});
+      // Half-written cache entries and temp files of killed workers; older
+      // than any attempt may run, so no live write is touched.
+      const auto temp_age = std::chrono::seconds(std::max(3600, ctx_.config.job_timeout_s + 60));
+      if (int n = sweep_stale_temp_files(ctx_.data->root(), temp_age); n > 0)
+        log::info("stale temp files removed", {{"files", n}});
       // Uploads interrupted mid-stream (client gone, server killed).
       std::error_code ec;
       for (const auto& e : fs::directory_iterator(ctx_.data->uploads_tmp(), ec)) {

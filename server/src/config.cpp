@@ -2,6 +2,8 @@
 // its environment variable and its help line cannot drift apart.
 #include "soupuv/server/config.h"
 
+#include <arpa/inet.h>
+
 #include <algorithm>
 #include <charconv>
 #include <cstdlib>
@@ -61,12 +63,32 @@ const std::vector<Option>& options() {
        [](Config& c, const std::string& v) { c.max_upload_bytes = parse_int("max-upload-bytes", v, 1, int64_t(1) << 40); }},
       {"job-timeout", "wall-clock seconds per job attempt (default 600)",
        [](Config& c, const std::string& v) { c.job_timeout_s = int(parse_int("job-timeout", v, 1, 7 * 86400)); }},
+      {"max-attempts", "runs of a job whose worker crashed, was killed or was lost with the server, before it fails (default 3)",
+       [](Config& c, const std::string& v) { c.max_attempts = int(parse_int("max-attempts", v, 1, 100)); }},
       {"result-ttl", "seconds finished jobs and their files are kept (default 86400)",
        [](Config& c, const std::string& v) { c.result_ttl_s = int(parse_int("result-ttl", v, 1, 365 * 86400)); }},
       {"worker-memory-mb", "address-space limit of each worker process (default 8192)",
        [](Config& c, const std::string& v) { c.worker_memory_mb = parse_int("worker-memory-mb", v, 64, 1 << 22); }},
-      {"tokens-file", "file of accepted bearer tokens, one per line (default: no auth)",
+      {"worker-max-file-mb", "largest file a worker may write, RLIMIT_FSIZE (default 4096)",
+       [](Config& c, const std::string& v) { c.worker_max_file_mb = parse_int("worker-max-file-mb", v, 1, 1 << 22); }},
+      {"worker-sandbox", "auto, landlock or off: confine workers with Landlock (auto: when the kernel has it)",
+       [](Config& c, const std::string& v) {
+         if (v != "auto" && v != "landlock" && v != "off")
+           throw ConfigError("--worker-sandbox: expected auto, landlock or off, got '" + v + "'");
+         c.worker_sandbox = v;
+       }},
+      {"worker-env", "comma-separated names of environment variables passed to workers "
+                     "(default ASAN_OPTIONS,UBSAN_OPTIONS,LSAN_OPTIONS)",
+       [](Config& c, const std::string& v) { c.worker_env = split_list(v); }},
+      {"tokens-file", "bearer tokens, one `TOKEN` or `TENANT TOKEN` a line, >= 32 bytes each; reloaded on SIGHUP "
+                      "(default: none, allowed only on a loopback --host)",
        [](Config& c, const std::string& v) { c.tokens_file = v; }},
+      {"allow-anonymous", "serve a non-loopback --host without --tokens-file (default false: refused)",
+       [](Config& c, const std::string& v) { c.allow_anonymous = parse_bool("allow-anonymous", v); }},
+      {"metrics-host", "address of the --metrics-port listener (default 127.0.0.1)",
+       [](Config& c, const std::string& v) { c.metrics_host = v; }},
+      {"metrics-port", "own port serving only /metrics, without a token (default 0: /metrics on the main port)",
+       [](Config& c, const std::string& v) { c.metrics_port = int(parse_int("metrics-port", v, 0, 65535)); }},
       {"cache-size-mb", "field cache size on disk, shared by workers; the server prunes the oldest entries (default 1024)",
        [](Config& c, const std::string& v) { c.cache_size_mb = parse_int("cache-size-mb", v, 0, 1 << 24); }},
       {"cors-origins", "comma-separated origins allowed by CORS (default none)",
@@ -77,8 +99,18 @@ const std::vector<Option>& options() {
        [](Config& c, const std::string& v) { c.web_dir = v; }},
       {"http-threads", "HTTP I/O threads (default 32)",
        [](Config& c, const std::string& v) { c.http_threads = int(parse_int("http-threads", v, 2, 1024)); }},
+      {"header-timeout", "seconds a client has to send a whole request head, then 408 (default 10)",
+       [](Config& c, const std::string& v) { c.header_timeout_s = int(parse_int("header-timeout", v, 1, 600)); }},
+      {"max-header-bytes", "largest request head, then 431 (default 16384)",
+       [](Config& c, const std::string& v) { c.max_header_bytes = int(parse_int("max-header-bytes", v, 1024, 1 << 20)); }},
+      {"max-header-lines", "most header lines in a request, then 431 (default 100)",
+       [](Config& c, const std::string& v) { c.max_header_lines = int(parse_int("max-header-lines", v, 8, 10000)); }},
+      {"min-body-rate", "bytes/s a request body must average once it has taken 10 s (default 1024)",
+       [](Config& c, const std::string& v) { c.min_body_rate = parse_int("min-body-rate", v, 1, int64_t(1) << 30); }},
       {"max-uploads", "uploads in flight at once, beyond: 503 + Retry-After (default: half the HTTP threads)",
        [](Config& c, const std::string& v) { c.max_uploads = int(parse_int("max-uploads", v, 1, 1024)); }},
+      {"min-free-mb", "free space the data directory keeps; below it uploads get 503 and /readyz fails (default 512)",
+       [](Config& c, const std::string& v) { c.min_free_mb = parse_int("min-free-mb", v, 0, int64_t(1) << 40); }},
       {"validate-uploads", "check each upload with `soupuv inspect` before queueing (default true)",
        [](Config& c, const std::string& v) { c.validate_uploads = parse_bool("validate-uploads", v); }},
       {"log-level", "trace, debug, info, warn, error (default info)",
@@ -131,7 +163,18 @@ Config parse_config(const std::vector<std::string>& args, const EnvLookup& env) 
     if (!o) throw ConfigError("unknown flag --" + name + " (see --help)");
     o->set(c, value);
   }
+  if (c.tokens_file.empty() && !c.allow_anonymous && !is_loopback_host(c.host))
+    throw ConfigError("--host " + c.host +
+                      " is reachable from other machines and no --tokens-file is given: anyone could submit, read "
+                      "and delete jobs. Give --tokens-file FILE, or --allow-anonymous true to serve without "
+                      "authentication on purpose");
   return c;
+}
+
+bool is_loopback_host(const std::string& host) {
+  if (host == "localhost" || host == "::1") return true;
+  in_addr a{};
+  return inet_pton(AF_INET, host.c_str(), &a) == 1 && (ntohl(a.s_addr) >> 24) == 127;
 }
 
 EnvLookup process_env() {

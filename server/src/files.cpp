@@ -1,5 +1,7 @@
 #include "soupuv/server/files.h"
 
+#include "soupuv/server/storage.h"
+
 #include <fcntl.h>
 #include <sys/random.h>
 #include <unistd.h>
@@ -15,15 +17,24 @@ namespace {
 constexpr char kBase32[] = "abcdefghijklmnopqrstuvwxyz234567";
 constexpr size_t kIdChars = 26;  // 130 bits of base32, 128 of them random
 
+// A full disk or quota is the storage's condition, not a bug: its own type
+// (503 + Retry-After at the API, storage.h); other errors stay runtime_error.
 [[noreturn]] void fail(const std::string& what, const fs::path& p) {
-  throw std::runtime_error(what + " " + p.string() + ": " + std::strerror(errno));
+  const int err = errno;
+  std::string msg = what + " " + p.string() + ": " + std::strerror(err);
+  if (err == ENOSPC || err == EDQUOT || err == EROFS) throw StorageUnavailable(msg);
+  throw std::runtime_error(msg);
 }
 
+// A rename is durable only once its directory is: the fsync's result counts.
 void fsync_dir(const fs::path& dir) {
   int fd = ::open(dir.c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC);
   if (fd < 0) fail("open dir", dir);
-  ::fsync(fd);
+  int rc = ::fsync(fd);
+  int err = errno;
   ::close(fd);
+  errno = err;
+  if (rc != 0) fail("fsync dir", dir);
 }
 
 }  // namespace
@@ -117,7 +128,7 @@ std::string read_file(const fs::path& path, int64_t max_bytes) {
   return out;
 }
 
-BoundedFileWriter::BoundedFileWriter(const fs::path& path, int64_t budget) : budget_(budget) {
+BoundedFileWriter::BoundedFileWriter(const fs::path& path, int64_t budget) : path_(path), budget_(budget) {
   fd_ = ::open(path.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0640);
   if (fd_ < 0) fail("create", path);
 }
@@ -135,7 +146,7 @@ bool BoundedFileWriter::write(const char* data, size_t n) {
     ssize_t w = ::write(fd_, data, n);
     if (w < 0) {
       if (errno == EINTR) continue;
-      throw std::runtime_error(std::string("write failed: ") + std::strerror(errno));
+      fail("write", path_);
     }
     data += w;
     n -= size_t(w);
@@ -147,9 +158,11 @@ bool BoundedFileWriter::write(const char* data, size_t n) {
 void BoundedFileWriter::finish() {
   if (fd_ < 0) return;
   int rc = ::fsync(fd_);
+  int err = errno;
   ::close(fd_);
+  errno = err;
   fd_ = -1;
-  if (rc != 0) throw std::runtime_error(std::string("fsync failed: ") + std::strerror(errno));
+  if (rc != 0) fail("fsync", path_);
 }
 
 }  // namespace soupuv::server

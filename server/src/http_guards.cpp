@@ -27,7 +27,10 @@ std::optional<Rejection> check_request_headers(const httplib::Request& req, int6
   if (req.has_header("Content-Encoding"))
     return Rejection{415, "unsupported-encoding", "Content-Encoding is not accepted; send the file as is"};
 
-  const bool has_body_method = req.method == "POST" || req.method == "PUT" || req.method == "PATCH";
+  // POST /v1/jobs/{id}:cancel is an action without a body: no Content-Length needed.
+  const bool is_action = req.method == "POST" && req.path.size() > 7 &&
+                         req.path.compare(req.path.size() - 7, 7, ":cancel") == 0;
+  const bool has_body_method = (req.method == "POST" && !is_action) || req.method == "PUT" || req.method == "PATCH";
   const size_t lengths = req.get_header_value_count("Content-Length");
   if (lengths > 1) return Rejection{411, "length-required", "duplicate Content-Length"};
   int64_t length = 0;

@@ -1,4 +1,5 @@
-// soupuv-server entry point: parse flags/env, run the App until SIGTERM/SIGINT.
+// soupuv-server entry point: parse flags/env, run the App until SIGTERM/SIGINT
+// (SIGHUP reloads the tokens file).
 #include <signal.h>
 #include <unistd.h>
 
@@ -30,6 +31,7 @@ int main(int argc, char** argv) {
   sigemptyset(&signals);
   sigaddset(&signals, SIGTERM);
   sigaddset(&signals, SIGINT);
+  sigaddset(&signals, SIGHUP);  // reload --tokens-file
   pthread_sigmask(SIG_BLOCK, &signals, nullptr);
   signal(SIGPIPE, SIG_IGN);
   try {
@@ -40,7 +42,7 @@ int main(int argc, char** argv) {
     }
     std::thread waiter([&] {
       int sig = 0;
-      sigwait(&signals, &sig);
+      while (sigwait(&signals, &sig) == 0 && sig == SIGHUP) app.reload_tokens();
       log::info("signal received, stopping", {{"signal", sig}});
       app.stop();
     });

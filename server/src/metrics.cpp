@@ -1,5 +1,7 @@
 #include "soupuv/server/metrics.h"
 
+#include <cstdio>
+#include <cstdlib>
 #include <sstream>
 
 namespace soupuv::server {
@@ -20,6 +22,41 @@ const std::vector<double>& Metrics::http_buckets() {
 }
 
 namespace {
+
+// Full precision: Prometheus parses Go floats; six digits would round sums
+// and counters past a million.
+std::string num(double v) {
+  char buf[32];
+  for (int precision = 15; precision <= 17; ++precision) {  // the shortest that reads back the same
+    std::snprintf(buf, sizeof buf, "%.*g", precision, v);
+    if (std::strtod(buf, nullptr) == v) break;
+  }
+  return buf;
+}
+
+// Label values escaped as the text format requires (backslash, quote, newline).
+std::string label(const std::string& v) {
+  std::string out;
+  for (char c : v) {
+    if (c == '\\' || c == '"') out += '\\';
+    if (c == '\n') {
+      out += "\\n";
+      continue;
+    }
+    out += c;
+  }
+  return out;
+}
+
+// One line of HELP for each gauge the server samples (render's `gauges`).
+const char* gauge_help(const std::string& name) {
+  if (name == "queue_depth") return "Jobs waiting for a worker.";
+  if (name == "queue_capacity") return "Jobs that may wait before submissions get 429.";
+  if (name == "workers_busy") return "Worker processes running a job.";
+  if (name == "workers") return "Configured worker processes.";
+  return "Sampled by the server.";
+}
+
 template <typename H>
 void observe(H& h, const std::vector<double>& bounds, double seconds) {
   if (h.raw.empty()) h.raw.assign(bounds.size(), 0);
@@ -34,16 +71,17 @@ void observe(H& h, const std::vector<double>& bounds, double seconds) {
 
 // Prometheus histogram lines (cumulative buckets, +Inf, sum, count).
 template <typename H>
-void render_histogram(std::ostringstream& o, const std::string& name, const std::string& label,
+void render_histogram(std::ostringstream& o, const std::string& name, const std::string& key,
                       const std::string& value, const H& h, const std::vector<double>& bounds) {
   uint64_t cum = 0;
+  const std::string lv = label(value);
   for (size_t i = 0; i < bounds.size(); ++i) {
     cum += h.raw[i];
-    o << name << "_bucket{" << label << "=\"" << value << "\",le=\"" << bounds[i] << "\"} " << cum << "\n";
+    o << name << "_bucket{" << key << "=\"" << lv << "\",le=\"" << num(bounds[i]) << "\"} " << cum << "\n";
   }
-  o << name << "_bucket{" << label << "=\"" << value << "\",le=\"+Inf\"} " << h.count << "\n";
-  o << name << "_sum{" << label << "=\"" << value << "\"} " << h.sum << "\n";
-  o << name << "_count{" << label << "=\"" << value << "\"} " << h.count << "\n";
+  o << name << "_bucket{" << key << "=\"" << lv << "\",le=\"+Inf\"} " << h.count << "\n";
+  o << name << "_sum{" << key << "=\"" << lv << "\"} " << num(h.sum) << "\n";
+  o << name << "_count{" << key << "=\"" << lv << "\"} " << h.count << "\n";
 }
 }  // namespace
 
@@ -79,16 +117,19 @@ std::string Metrics::render(const std::map<std::string, double>& gauges) const {
        "# TYPE soupuv_http_requests_total counter\n";
   for (const auto& [code, n] : http_by_code_)
     o << "soupuv_http_requests_total{code=\"" << code << "\"} " << n << "\n";
+  o << "# HELP soupuv_build_info The server's version (value always 1).\n# TYPE soupuv_build_info gauge\n"
+       "soupuv_build_info{version=\"" << label(SOUPUV_VERSION) << "\"} 1\n";
   o << "# HELP soupuv_jobs Jobs in the store by state.\n# TYPE soupuv_jobs gauge\n";
   for (const auto& [name, v] : gauges)
-    if (name.rfind("jobs:", 0) == 0) o << "soupuv_jobs{state=\"" << name.substr(5) << "\"} " << v << "\n";
+    if (name.rfind("jobs:", 0) == 0) o << "soupuv_jobs{state=\"" << label(name.substr(5)) << "\"} " << num(v) << "\n";
   for (const auto& [name, v] : gauges)
     if (name.rfind("jobs:", 0) != 0)
-      o << "# TYPE soupuv_" << name << " gauge\nsoupuv_" << name << " " << v << "\n";
+      o << "# HELP soupuv_" << name << " " << gauge_help(name) << "\n# TYPE soupuv_" << name << " gauge\nsoupuv_"
+        << name << " " << num(v) << "\n";
   o << "# HELP soupuv_jobs_finished_total Jobs finished by this process, by final state.\n"
        "# TYPE soupuv_jobs_finished_total counter\n";
   for (const auto& [state, n] : finished_by_state_)
-    o << "soupuv_jobs_finished_total{state=\"" << state << "\"} " << n << "\n";
+    o << "soupuv_jobs_finished_total{state=\"" << label(state) << "\"} " << n << "\n";
   o << "# HELP soupuv_stage_duration_seconds Pipeline stage durations reported by workers.\n"
        "# TYPE soupuv_stage_duration_seconds histogram\n";
   for (const auto& [stage, h] : stages_)

@@ -91,19 +91,12 @@ WorkerCapabilities probe_worker(const std::string& worker_bin) {
     std::atomic<bool> never{false};
     ProcessLimits limits;
     limits.wall_seconds = 10;
-    // Help may go to stdout or stderr: take both (stdout through a temp file).
-    char tmpl[] = "/tmp/soupuv-help-XXXXXX";
-    int fd = mkstemp(tmpl);
-    if (fd < 0) continue;
-    close(fd);
-    run_process(argv, {}, limits, never, [&](const std::string& line) { text += line + "\n"; }, tmpl);
-    if (FILE* f = std::fopen(tmpl, "r")) {
-      char buf[4096];
-      size_t n;
-      while ((n = std::fread(buf, 1, sizeof buf, f)) > 0) text.append(buf, n);
-      std::fclose(f);
-    }
-    std::remove(tmpl);
+    // Help may go to stdout or stderr: take both. stdout comes back through a
+    // pipe, never a temp file (a read-only root file system has no /tmp, and
+    // a silent probe failure would leave every job without its flags).
+    auto outcome = run_process(argv, {"PATH=/usr/bin:/bin", "LANG=C.UTF-8"}, limits, never,
+                               [&](const std::string& line) { text += line + "\n"; });
+    text += outcome.stdout_text;
     if (text.find("inspect") != std::string::npos) caps.has_inspect = true;
     for (std::sregex_iterator it(text.begin(), text.end(), flag_re), end; it != end; ++it)
       caps.flags.insert(it->str());

@@ -7,13 +7,18 @@
 #include <chrono>
 #include <filesystem>
 #include <fstream>
+#include <regex>
+#include <set>
 
 #include "soupuv/hash.h"
 #include "soupuv/server/app.h"
 #include "soupuv/server/http_guards.h"
 #include "soupuv/server/http_server.h"
+#include "soupuv/server/list_cursor.h"
 #include "soupuv/server/log.h"
 #include "soupuv/server/problem.h"
+#include "soupuv/server/sandbox.h"
+#include "soupuv/server/storage.h"
 #include "soupuv/server/upload_check.h"
 #include "soupuv/server/worker_process.h"
 
@@ -26,6 +31,7 @@ const std::vector<RouteInfo>& api_routes() {
       {"get", "/v1/jobs"},
       {"get", "/v1/jobs/{id}"},
       {"delete", "/v1/jobs/{id}"},
+      {"post", "/v1/jobs/{id}:cancel"},
       {"get", "/v1/jobs/{id}/result"},
       {"get", "/v1/jobs/{id}/diagnostics"},
       {"get", "/v1/jobs/{id}/uv-layout.png"},
@@ -36,6 +42,7 @@ const std::vector<RouteInfo>& api_routes() {
       {"get", "/healthz"},
       {"get", "/readyz"},
       {"get", "/metrics"},
+      {"get", "/problems/{slug}"},
   };
   return routes;
 }
@@ -57,6 +64,37 @@ void queue_full(httplib::Response& res, const ServerContext& ctx, int status) {
   set_problem(res, status, status == 429 ? "queue-full" : "unavailable",
               status == 429 ? "the job queue is full; retry after the indicated seconds"
                             : "the server is not accepting jobs right now");
+}
+
+// A client polling a job should come back when something may have changed:
+// soon for a running job, after about the queue's drain time for a queued one.
+void poll_hint(httplib::Response& res, const ServerContext& ctx, const Job& job) {
+  if (job.state == JobState::running) res.set_header("Retry-After", "1");
+  else if (job.state == JobState::queued) res.set_header("Retry-After", std::to_string(retry_after_seconds(ctx)));
+}
+
+// Methods the API serves on `path` (from api_routes()), for Allow on 405.
+std::set<std::string> methods_for(const std::string& path) {
+  // The route table as (regex, METHOD), compiled once.
+  static const std::vector<std::pair<std::regex, std::string>> routes = [] {
+    std::vector<std::pair<std::regex, std::string>> out;
+    for (const auto& r : api_routes()) {
+      std::string m = r.method;
+      std::transform(m.begin(), m.end(), m.begin(), ::toupper);
+      out.emplace_back(std::regex(std::regex_replace(r.path, std::regex("\\{[a-z]+\\}"), "[^/:]+")), m);
+    }
+    return out;
+  }();
+  std::set<std::string> methods;
+  for (const auto& [re, m] : routes)
+    if (std::regex_match(path, re)) methods.insert(m);
+  return methods;
+}
+
+std::string allowed_methods(const std::string& path) {
+  std::string out;
+  for (const auto& m : methods_for(path)) out += (out.empty() ? "" : ", ") + m;
+  return out;
 }
 
 void send_json(httplib::Response& res, int status, const nlohmann::json& j) {
@@ -85,9 +123,22 @@ bool send_file(httplib::Response& res, const fs::path& path, const std::string& 
   return true;
 }
 
+// The tenant a request acts for: "" without tokens; nullopt when tokens are
+// configured and this request's token is not (any more: a SIGHUP between the
+// guard and the handler) accepted, which then sees nothing.
+std::optional<std::string> request_tenant(const ServerContext& ctx, const httplib::Request& req) {
+  auto tokens = ctx.tokens.get();
+  if (!tokens->enabled()) return std::string();
+  return tokens->tenant_for(TokenSet::bearer(req.get_header_value("Authorization")));
+}
+
+// Another tenant's job is answered exactly like a missing one: its existence
+// is not revealed.
 std::optional<Job> job_or_404(ServerContext& ctx, const httplib::Request& req, httplib::Response& res) {
   const std::string id = req.matches[1];
   auto job = is_valid_job_id(id) ? ctx.store->get(id) : std::nullopt;
+  auto tenant = request_tenant(ctx, req);
+  if (job && (!tenant || job->tenant != *tenant)) job.reset();
   if (!job) set_problem(res, 404, "not-found", "no such job");
   return job;
 }
@@ -138,10 +189,22 @@ std::optional<Rejection> inspect_upload(ServerContext& ctx, const fs::path& file
   limits.wall_seconds = 60;
   limits.address_space_bytes = ctx.config.worker_memory_mb << 20;
   limits.cpu_seconds = 60;
+  // Sandboxed like a job's worker: it reads the upload, writes nothing (its
+  // scratch directory is the upload's own temp directory, read-only here).
+  SandboxPaths paths;
+  paths.program = ctx.worker_bin;
+  paths.read_files = {file.string()};
+  std::string sandbox_error;
+  if (!confine_worker(ctx.config, paths, file.parent_path().string(), limits, sandbox_error)) {
+    log::error("worker sandbox could not be built", {{"error", sandbox_error}});
+    return Rejection{503, "unavailable", "the upload cannot be checked safely right now"};
+  }
+  RulesetCloser closer{limits.landlock_ruleset};
   std::string reason;
   std::atomic<bool> never{false};
-  auto outcome = run_process({ctx.worker_bin, "inspect", file.string()}, {"OMP_NUM_THREADS=1"}, limits, never,
-                             [&](const std::string& line) {
+  auto outcome = run_process({ctx.worker_bin, "inspect", file.string()},
+                             worker_environment(file.parent_path().string(), ctx.config.worker_env, {"OMP_NUM_THREADS=1"}),
+                             limits, never, [&](const std::string& line) {
                                if (line.rfind("soupuv: ", 0) == 0) reason = line.substr(8, 500);
                              });
   auto verdict = classify_outcome(outcome, reason, ctx.config);
@@ -157,10 +220,48 @@ std::optional<Rejection> inspect_upload(ServerContext& ctx, const fs::path& file
 // POST /v1/jobs. Order matters: cheap refusals (queue full, bad key) before the
 // body is read; the body streams to a temp directory under a byte budget; the
 // directory is renamed into place only once the upload is whole and checked.
+// The refusals of POST /v1/jobs that need no body: the same checks answer
+// `Expect: 100-continue` (so a client is told before it sends a byte) and
+// run again when the body path starts. `in_flight`: uploads in progress
+// counting this one (the body path has taken its slot). True if refused.
+bool refuse_submission(ServerContext& ctx, const httplib::Request& req, httplib::Response& res, int in_flight) {
+  if (ctx.worker_bin.empty()) {
+    set_problem(res, 503, "unavailable", "no worker binary is installed");
+    return true;
+  }
+  if (!request_tenant(ctx, req)) {
+    set_problem(res, 401, "invalid-token", "the bearer token is not accepted");
+    return true;
+  }
+  if (!ctx.scheduler->has_room()) {
+    queue_full(res, ctx, 429);
+    return true;
+  }
+  if (in_flight > ctx.config.upload_slots()) {
+    res.set_header("Retry-After", "1");
+    set_problem(res, 503, "uploads-busy", "too many uploads in progress; retry after the indicated seconds");
+    return true;
+  }
+  // A full disk is a refusal, not a failed job later: the upload, its
+  // results and the job row all need room.
+  // (The header guard has checked Content-Length: present, one, <= 18 digits.)
+  const int64_t announced = req.has_header("Content-Length") ? std::stoll(req.get_header_value("Content-Length")) : 0;
+  const int64_t free = free_bytes(ctx.data->root());
+  if (free >= 0 && free - announced < (ctx.config.min_free_mb << 20)) {
+    log::warn("upload refused: low disk space", {{"free_bytes", free}, {"min_free_mb", ctx.config.min_free_mb}});
+    res.set_header("Retry-After", "60");
+    set_problem(res, 503, "insufficient-storage", "the server is low on disk space; retry after the indicated seconds");
+    return true;
+  }
+  if (req.has_header("Idempotency-Key") && !valid_idempotency_key(req.get_header_value("Idempotency-Key"))) {
+    set_problem(res, 400, "bad-idempotency-key", "Idempotency-Key must be 1-128 characters of [A-Za-z0-9-_.:]");
+    return true;
+  }
+  return false;
+}
+
 void submit_job(ServerContext& ctx, const httplib::Request& req, httplib::Response& res,
                 const httplib::ContentReader& content_reader) {
-  if (ctx.worker_bin.empty()) return set_problem(res, 503, "unavailable", "no worker binary is installed");
-  if (!ctx.scheduler->has_room()) return queue_full(res, ctx, 429);
   // Head-of-line guard: uploads hold an HTTP thread for seconds (body, fsync,
   // inspect); capped below the pool size, polls and health checks always find
   // a free thread.
@@ -168,13 +269,10 @@ void submit_job(ServerContext& ctx, const httplib::Request& req, httplib::Respon
     std::atomic<int>& n;
     ~UploadSlot() { --n; }
   } slot{ctx.uploads_in_flight};
-  if (ctx.uploads_in_flight.fetch_add(1) >= ctx.config.upload_slots()) {
-    res.set_header("Retry-After", "1");
-    return set_problem(res, 503, "uploads-busy", "too many uploads in progress; retry after the indicated seconds");
-  }
+  if (refuse_submission(ctx, req, res, ++ctx.uploads_in_flight)) return;
+  const auto tenant = request_tenant(ctx, req);
+  if (!tenant) return set_problem(res, 401, "invalid-token", "the bearer token is not accepted");
   const std::string key = req.get_header_value("Idempotency-Key");
-  if (req.has_header("Idempotency-Key") && !valid_idempotency_key(key))
-    return set_problem(res, 400, "bad-idempotency-key", "Idempotency-Key must be 1-128 characters of [A-Za-z0-9-_.:]");
   std::string perr;
   auto query_params = params_from_query(req, perr);
   if (!query_params) return set_problem(res, 400, "invalid-params", perr);
@@ -303,6 +401,7 @@ void submit_job(ServerContext& ctx, const httplib::Request& req, httplib::Respon
   job.input_file = file_name_for(*kind);
   job.content_type = *kind == ModelKind::glb ? "model/gltf-binary" : *kind == ModelKind::gltf ? "model/gltf+json" : "application/octet-stream";
   job.input_bytes = model_bytes;
+  job.tenant = *tenant;
   job.idempotency_key = key;
   job.request_hash = hasher.hex();
 
@@ -319,6 +418,7 @@ void submit_job(ServerContext& ctx, const httplib::Request& req, httplib::Respon
       return set_problem(res, 422, "idempotency-key-reused", "this Idempotency-Key was used with a different request");
     res.set_header("Location", "/v1/jobs/" + stored->id);
     res.set_header("Idempotent-Replayed", "true");
+    poll_hint(res, ctx, *stored);
     return send_json(res, 202, to_json(*stored));
   }
   auto queued = ctx.scheduler->enqueue(id);
@@ -330,6 +430,7 @@ void submit_job(ServerContext& ctx, const httplib::Request& req, httplib::Respon
   ctx.metrics.upload_bytes(model_bytes);
   log::info("job submitted", {{"job", id}, {"bytes", model_bytes}, {"type", job.content_type}, {"params", params}});
   res.set_header("Location", "/v1/jobs/" + id);
+  poll_hint(res, ctx, *stored);
   send_json(res, 202, to_json(*stored));
 }
 
@@ -368,33 +469,56 @@ bool cors_allowed(const ServerContext& ctx, const std::string& origin) {
 
 }  // namespace
 
+std::string render_metrics(ServerContext& ctx) {
+  std::map<std::string, double> gauges;
+  for (const auto& [state, n] : ctx.store->count_by_state()) gauges["jobs:" + state] = double(n);
+  gauges["queue_depth"] = double(ctx.scheduler->queue_depth());
+  gauges["queue_capacity"] = ctx.config.queue_capacity;
+  gauges["workers_busy"] = ctx.scheduler->busy_workers();
+  gauges["workers"] = ctx.config.workers;
+  return ctx.metrics.render(gauges);
+}
+
 void register_routes(httplib::Server& http, ServerContext& ctx) {
   // ---- guards -------------------------------------------------------------
   auto guard = [&ctx](const httplib::Request& req, httplib::Response& res) -> bool {
     if (auto r = check_request_headers(req, ctx.config.max_upload_bytes)) {
+      if (r->status == 405) res.set_header("Allow", allowed_methods(req.path));
       set_problem(res, r->status, r->slug, r->detail);
       // The body (if any) is unread: the connection cannot carry another request.
       close_connection_after(res);
       return false;
     }
-    if (ctx.tokens.enabled() && req.path.rfind("/v1/", 0) == 0 && req.path != "/v1/openapi.yaml" &&
-        req.method != "OPTIONS") {
+    // Tokens guard the API and /metrics (jobs by state, queue depth: not for
+    // everyone; --metrics-port serves it without a token on its own address).
+    // Health checks, the OpenAPI document, CORS preflights and the upload page stay open.
+    auto tokens = ctx.tokens.get();
+    const bool protected_path = (req.path.rfind("/v1/", 0) == 0 && req.path != "/v1/openapi.yaml") ||
+                                req.path == "/metrics";
+    if (tokens->enabled() && protected_path && req.method != "OPTIONS") {
+      // RFC 6750 §3: no credentials -> a bare challenge; bad ones -> invalid_token.
       if (!req.has_header("Authorization")) {
         res.set_header("WWW-Authenticate", "Bearer realm=\"soupuv\"");
         set_problem(res, 401, "unauthorized", "a bearer token is required");
         close_connection_after(res);
         return false;
       }
-      if (!ctx.tokens.accepts(TokenSet::bearer(req.get_header_value("Authorization")))) {
-        set_problem(res, 403, "forbidden", "the bearer token is not accepted");
+      if (!tokens->accepts(TokenSet::bearer(req.get_header_value("Authorization")))) {
+        res.set_header("WWW-Authenticate",
+                       "Bearer realm=\"soupuv\", error=\"invalid_token\", error_description=\"the token is not accepted\"");
+        set_problem(res, 401, "invalid-token", "the bearer token is not accepted");
         close_connection_after(res);
         return false;
       }
     }
     return true;
   };
-  http.set_expect_100_continue_handler([guard](const httplib::Request& req, httplib::Response& res) {
-    if (guard(req, res)) return 100;
+  http.set_expect_100_continue_handler([&ctx, guard](const httplib::Request& req, httplib::Response& res) {
+    // The body path's own refusals too (queue, slots, disk): a client that
+    // asked first must not upload a body only to hear 429 after it.
+    const bool submit = req.method == "POST" && req.path == "/v1/jobs";
+    if (guard(req, res) && !(submit && refuse_submission(ctx, req, res, ctx.uploads_in_flight.load() + 1))) return 100;
+    close_connection_after(res);
     // 0.11.4 writes this early answer without Content-Length and keeps the
     // connection open, so a client would wait for the close while uploading
     // its body; with the length it reads the answer and stops sending.
@@ -426,21 +550,39 @@ void register_routes(httplib::Server& http, ServerContext& ctx) {
   // it and answers a plain problem.
   http.set_exception_handler([](const httplib::Request& req, httplib::Response& res, std::exception_ptr ep) {
     std::string what = "unknown";
+    bool unavailable = false;
     try {
       std::rethrow_exception(ep);
+    } catch (const StorageUnavailable& e) {
+      what = e.what();
+      unavailable = true;
     } catch (const std::exception& e) {
       what = e.what();
     } catch (...) {
     }
     log::error("request failed", {{"method", req.method}, {"path", req.path.substr(0, 200)}, {"error", what}});
     close_connection_after(res);
+    if (unavailable) {  // full disk, failing job store: the client should come back
+      res.set_header("Retry-After", "30");
+      return set_problem(res, 503, "storage-unavailable", "the server cannot store data right now; retry after the indicated seconds");
+    }
     set_problem(res, 500, "internal", "internal server error");
   });
   // Errors httplib produces itself (unknown route, 400 on a bad request line,
   // 413 from its payload cap) get a problem body too.
-  http.set_error_handler(httplib::Server::HandlerWithResponse([](const httplib::Request&, httplib::Response& res) {
+  http.set_error_handler(httplib::Server::HandlerWithResponse([](const httplib::Request& req, httplib::Response& res) {
     close_connection_after(res);  // e.g. a 404 on a POST whose body nobody read
     if (!res.body.empty() || res.is_chunked_content_provider_) return httplib::Server::HandlerResponse::Unhandled;
+    // The router says 404 for a known path with another method: that is 405 + Allow.
+    if (res.status == 404) {
+      const auto methods = methods_for(req.path);
+      if (!methods.empty() && !methods.count(req.method)) {
+        const std::string allow = allowed_methods(req.path);
+        res.set_header("Allow", allow);
+        set_problem(res, 405, "method-not-allowed", req.method.substr(0, 10) + " is not served here; see Allow");
+        return httplib::Server::HandlerResponse::Handled;
+      }
+    }
     std::string slug = res.status == 404 ? "not-found" : res.status == 413 ? "too-large" : "bad-request";
     set_problem(res, res.status, slug, status_title(res.status));
     return httplib::Server::HandlerResponse::Handled;
@@ -479,27 +621,46 @@ void register_routes(httplib::Server& http, ServerContext& ctx) {
         return set_problem(res, 400, "invalid-query", "limit must be an integer in [1, 100]");
       limit = std::stoi(v);
     }
-    std::string cursor = req.has_param("cursor") ? req.get_param_value("cursor") : "";
-    if (cursor.size() > 20 || !std::all_of(cursor.begin(), cursor.end(), ::isdigit))
-      return set_problem(res, 400, "invalid-query", "cursor must come from next_cursor");
-    auto page = ctx.store->list(state, limit, cursor);
-    nlohmann::json out = {{"jobs", nlohmann::json::array()}, {"next_cursor", page.next_cursor.empty() ? nlohmann::json() : nlohmann::json(page.next_cursor)}};
+    auto cursor = decode_list_cursor(req.has_param("cursor") ? req.get_param_value("cursor") : "");
+    if (!cursor) return set_problem(res, 400, "invalid-query", "cursor must come from next_cursor");
+    auto tenant = request_tenant(ctx, req);
+    if (!tenant) return set_problem(res, 401, "invalid-token", "the bearer token is not accepted");
+    auto page = ctx.store->list(state, limit, *cursor, *tenant);
+    nlohmann::json out = {{"jobs", nlohmann::json::array()},
+                          {"next_cursor", page.next_cursor.empty() ? nlohmann::json() : nlohmann::json(encode_list_cursor(page.next_cursor))}};
     for (const auto& j : page.jobs) out["jobs"].push_back(to_json(j));
     send_json(res, 200, out);
   });
   const std::string job = std::string("/v1/jobs/") + kJobIdPattern;
   http.Get(job, [&ctx](const httplib::Request& req, httplib::Response& res) {
-    if (auto j = job_or_404(ctx, req, res)) send_json(res, 200, to_json(*j));
+    if (auto j = job_or_404(ctx, req, res)) {
+      poll_hint(res, ctx, *j);
+      send_json(res, 200, to_json(*j));
+    }
+  });
+  // Cancel is its own action, so that DELETE only ever deletes: a retried
+  // DELETE can no longer remove the record of a job it meant to cancel.
+  http.Post(job + ":cancel", [&ctx](const httplib::Request& req, httplib::Response& res) {
+    auto j = job_or_404(ctx, req, res);
+    if (!j) return;
+    if (j->state == JobState::canceled) return send_json(res, 200, to_json(*j));  // a retry: already done
+    if (is_finished(j->state))
+      return set_problem(res, 409, "job-finished", std::string("the job already ") + to_string(j->state),
+                         {{"state", to_string(j->state)}});
+    ctx.store->request_cancel(j->id);
+    ctx.scheduler->cancel(j->id);
+    log::info("job cancel requested", {{"job", j->id}});
+    auto now = ctx.store->get(j->id);
+    send_json(res, now && now->state == JobState::canceled ? 200 : 202, to_json(now ? *now : *j));
   });
   http.Delete(job, [&ctx](const httplib::Request& req, httplib::Response& res) {
     auto j = job_or_404(ctx, req, res);
     if (!j) return;
-    if (!is_finished(j->state)) {
-      ctx.store->request_cancel(j->id);
-      ctx.scheduler->cancel(j->id);
-      log::info("job cancel requested", {{"job", j->id}});
-      return send_json(res, 202, to_json(*ctx.store->get(j->id)));
-    }
+    if (!is_finished(j->state))
+      return set_problem(res, 409, "job-not-finished",
+                         "the job is " + std::string(to_string(j->state)) + "; cancel it first: POST /v1/jobs/" +
+                             j->id + ":cancel",
+                         {{"state", to_string(j->state)}});
     std::error_code ec;
     fs::remove_all(ctx.data->job(j->id), ec);
     ctx.store->remove(j->id);
@@ -534,20 +695,31 @@ void register_routes(httplib::Server& http, ServerContext& ctx) {
     res.set_content("{\"status\":\"ok\"}", "application/json");
   });
   http.Get("/readyz", [&ctx](const httplib::Request&, httplib::Response& res) {
+    const StorageStatus disk = storage_status(ctx.data->root(), ctx.config.min_free_mb << 20);
+    // An empty probe (the worker's --help unreadable) would run every job
+    // without progress, cache or parameters: not ready, rather than silently degraded.
     nlohmann::json checks = {{"worker_binary", !ctx.worker_bin.empty()},
-                             {"data_dir_writable", access(ctx.data->root().c_str(), W_OK) == 0},
+                             {"worker_capabilities", !ctx.caps.flags.empty()},
+                             {"data_dir_writable", disk.writable},
+                             {"disk_space", disk.enough_space},
                              {"queue_has_room", ctx.scheduler->has_room()}};
-    bool ok = checks["worker_binary"].get<bool>() && checks["data_dir_writable"].get<bool>();
+    bool ok = checks["worker_binary"].get<bool>() && !ctx.caps.flags.empty() && disk.writable && disk.enough_space;
     send_json(res, ok ? 200 : 503, {{"status", ok ? "ready" : "not ready"}, {"checks", checks}});
   });
   http.Get("/metrics", [&ctx](const httplib::Request&, httplib::Response& res) {
-    std::map<std::string, double> gauges;
-    for (const auto& [state, n] : ctx.store->count_by_state()) gauges["jobs:" + state] = double(n);
-    gauges["queue_depth"] = double(ctx.scheduler->queue_depth());
-    gauges["queue_capacity"] = ctx.config.queue_capacity;
-    gauges["workers_busy"] = ctx.scheduler->busy_workers();
-    gauges["workers"] = ctx.config.workers;
-    res.set_content(ctx.metrics.render(gauges), "text/plain; version=0.0.4");
+    res.set_content(render_metrics(ctx), "text/plain; version=0.0.4");
+  });
+
+  // ---- problem types (the `type` of every problem+json answer) -------------
+  http.Get("/problems/([a-z-]+)", [](const httplib::Request& req, httplib::Response& res) {
+    const ProblemType* t = find_problem_type(req.matches[1]);
+    if (!t) return set_problem(res, 404, "not-found", "no such problem type");
+    // Static text from the table only: nothing from the request is echoed.
+    res.set_content(std::string("<!doctype html><html lang=\"en\"><meta charset=\"utf-8\"><title>") + t->title +
+                        "</title><h1>" + t->title + "</h1><p>" + t->meaning + "</p><p>Problem type <code>/problems/" +
+                        t->slug + "</code> of the soupuv API (RFC 9457). The answer's <code>detail</code> says what "
+                                  "happened to this request.</p></html>\n",
+                    "text/html; charset=utf-8");
   });
 
   // ---- upload page ----------------------------------------------------------

@@ -9,6 +9,7 @@
 #include <filesystem>
 
 #include "soupuv/server/log.h"
+#include "soupuv/server/sandbox.h"
 #include "soupuv/server/worker_process.h"
 
 namespace soupuv::server {
@@ -47,16 +48,28 @@ std::string clean_stage(const std::string& s) {
 WorkerVerdict classify_outcome(const ProcessOutcome& o, const std::string& reason, const Config& config) {
   if (!o.started) return {JobState::failed, JobError{"worker_unavailable", 503, o.start_error}};
   if (o.canceled) return {JobState::canceled, std::nullopt};
+  if (o.output_exceeded)
+    return {JobState::failed,
+            JobError{"output_limit", 500, "the worker wrote more than 1 MiB to stdout, where it should write nothing"}};
   if (o.timed_out)
     return {JobState::failed,
             JobError{"timeout", 504, "job exceeded its wall-clock limit of " +
                                          std::to_string(config.job_timeout_s) + " s"}};
   if (o.signal != 0) {
-    if (o.signal == SIGXCPU || o.signal == SIGKILL)
-      return {JobState::failed, JobError{"resource_limit", 500,
-                                         "worker stopped by signal " + std::to_string(o.signal) +
-                                             " (CPU-time or memory limit)"}};
-    return {JobState::failed, JobError{"crashed", 500, "worker crashed with signal " + std::to_string(o.signal)}};
+    // RLIMIT_CPU: the job's own budget, the same on every run.
+    if (o.signal == SIGXCPU)
+      return {JobState::failed, JobError{"resource_limit", 500, "worker stopped by signal " +
+                                                                   std::to_string(o.signal) + " (CPU-time limit)"}};
+    if (o.signal == SIGXFSZ)
+      return {JobState::failed, JobError{"resource_limit", 500, "worker stopped by signal " + std::to_string(o.signal) +
+                                                                   " (file-size limit, --worker-max-file-mb)"}};
+    // SIGKILL we did not send: the kernel's OOM killer (or an operator), which
+    // depends on what else ran at the time, so another attempt may succeed.
+    if (o.signal == SIGKILL)
+      return {JobState::failed,
+              JobError{"resource_limit", 500, "worker killed by signal 9 (out of memory?)"}, true};
+    return {JobState::failed, JobError{"crashed", 500, "worker crashed with signal " + std::to_string(o.signal)},
+            true};
   }
   if (o.exit_code == 0) return {JobState::succeeded, std::nullopt};
   if (o.exit_code == 130) return {JobState::canceled, std::nullopt};
@@ -72,6 +85,7 @@ WorkerVerdict classify_outcome(const ProcessOutcome& o, const std::string& reaso
     case 7: return {JobState::failed, JobError{"not_built", 501, detail}};
     case 8: return {JobState::failed, JobError{"io_error", 500, detail}};
     case 127: return {JobState::failed, JobError{"worker_unavailable", 503, detail}};
+    case kSandboxFailedExit: return {JobState::failed, JobError{"sandbox_failed", 500, detail}};
     default: return {JobState::failed, JobError{"internal", 500, detail}};
   }
 }
@@ -118,14 +132,31 @@ bool Scheduler::has_room() const {
 
 size_t Scheduler::recover() {
   auto jobs = store_.unfinished();
-  {
-    std::lock_guard lock(mu_);
-    for (const auto& j : jobs) queue_.push_back(j.id);
+  size_t requeued = 0;
+  for (const auto& j : jobs) {
+    // A job running when the server died has used an attempt (mark_running
+    // counted it); one that keeps taking the server down must not loop forever.
+    if (j.state == JobState::running && j.attempts >= config_.max_attempts) {
+      const std::string detail = "the job was interrupted on each of its " + std::to_string(j.attempts) +
+                                 " attempts (the server stopped or was killed while it ran)";
+      if (!store_write("finish", [&] {
+            store_.finish(j.id, JobState::failed, JobError{"interrupted", 500, detail}, {}, now_seconds());
+          }))
+        continue;  // stays running in the store; the next start decides again
+      remove_work_dir(j.id);
+      metrics_.job_finished("failed");
+      log::warn("job failed at recovery", {{"job", j.id}, {"attempts", j.attempts}});
+      continue;
+    }
+    {
+      std::lock_guard lock(mu_);
+      queue_.push_back(j.id);
+    }
+    ++requeued;
+    log::info("job recovered", {{"job", j.id}, {"was", to_string(j.state)}, {"attempts", j.attempts}});
   }
   cv_.notify_all();
-  for (const auto& j : jobs)
-    log::info("job recovered", {{"job", j.id}, {"was", to_string(j.state)}, {"attempts", j.attempts}});
-  return jobs.size();
+  return requeued;
 }
 
 bool Scheduler::cancel(const std::string& id) {
@@ -155,6 +186,27 @@ int Scheduler::busy_workers() const {
   return int(running_.size());
 }
 
+bool Scheduler::store_write(const char* what, const std::function<void()>& write) {
+  std::string last;
+  for (int delay_ms = 100; delay_ms <= 1600; delay_ms *= 2) {
+    try {
+      write();
+      return true;
+    } catch (const std::exception& e) {
+      last = e.what();
+    }
+    std::this_thread::sleep_for(std::chrono::milliseconds(delay_ms));
+  }
+  log::error("job store write failed", {{"write", what}, {"error", last}});
+  return false;
+}
+
+void Scheduler::remove_work_dir(const std::string& id) noexcept {
+  if (!is_valid_job_id(id)) return;
+  std::error_code ec;
+  fs::remove_all(data_.root() / "jobs" / id / "work", ec);
+}
+
 void Scheduler::worker_loop() {
   for (;;) {
     std::string id;
@@ -166,30 +218,44 @@ void Scheduler::worker_loop() {
       queue_.pop_front();
       running_[id] = std::make_shared<std::atomic<bool>>(false);
     }
+    // Nothing may escape this thread (std::terminate would take every job
+    // down): run_job's errors fail the job, and if even that cannot be
+    // recorded the job stays unfinished in the store for the next start.
+    bool again = false;
     try {
-      run_job(id);
+      again = run_job(id);
     } catch (const std::exception& e) {
       log::error("job supervision failed", {{"job", id}, {"error", e.what()}});
-      store_.finish(id, JobState::failed, JobError{"internal", 500, "server error while running the job"},
-                    {}, now_seconds());
+      if (store_write("finish", [&] {
+            store_.finish(id, JobState::failed, JobError{"internal", 500, "server error while running the job"},
+                          {}, now_seconds());
+          }))
+        metrics_.job_finished("failed");
+      remove_work_dir(id);
     }
     std::lock_guard lock(mu_);
     running_.erase(id);
+    // Only now, with its running_ entry gone, may another thread take it:
+    // behind the jobs already waiting, so a poison job cannot monopolise a worker.
+    if (again && !stopping_) {
+      queue_.push_back(id);
+      cv_.notify_one();
+    }
   }
 }
 
-void Scheduler::run_job(const std::string& id) {
+bool Scheduler::run_job(const std::string& id) {
   auto job = store_.get(id);
-  if (!job || is_finished(job->state)) return;
+  if (!job || is_finished(job->state)) return false;
   std::shared_ptr<std::atomic<bool>> cancel;
   {
     std::lock_guard lock(mu_);
     cancel = running_[id];
   }
   if (job->cancel_requested) {
-    store_.finish(id, JobState::canceled, std::nullopt, {}, now_seconds());
-    metrics_.job_finished("canceled");
-    return;
+    if (store_write("finish", [&] { store_.finish(id, JobState::canceled, std::nullopt, {}, now_seconds()); }))
+      metrics_.job_finished("canceled");
+    return false;
   }
   // A worker binary being replaced (upgrade, rebuild) is briefly missing: wait
   // for it rather than failing the job; after 30 s the job fails with a reason.
@@ -197,7 +263,7 @@ void Scheduler::run_job(const std::string& id) {
   for (int i = 0; i < 60 && access(worker_bin_.c_str(), X_OK) != 0; ++i) {
     {
       std::lock_guard lock(mu_);
-      if (stopping_) return;
+      if (stopping_) return false;
     }
     std::this_thread::sleep_for(std::chrono::milliseconds(500));
   }
@@ -205,7 +271,10 @@ void Scheduler::run_job(const std::string& id) {
   const fs::path work = dir / "work";
   fs::remove_all(work);  // a re-run after restart starts clean: jobs are idempotent
   fs::create_directories(work);
-  store_.mark_running(id, now_seconds());
+  // Without a record of the attempt the run would not count (nor its result
+  // be recorded): put the job back at the end of the queue and try again
+  // after the next jobs; store_write's retries are the back-off.
+  if (!store_write("mark_running", [&] { store_.mark_running(id, now_seconds()); })) return true;
   log::info("job started", {{"job", id}, {"attempt", job->attempts + 1}});
 
   std::vector<std::string> argv = {worker_bin_, "map", (dir / job->input_file).string(), "-o",
@@ -227,8 +296,17 @@ void Scheduler::run_job(const std::string& id) {
     write_file_atomic(work / "seam_hints.json", job->params["seam_hints"].dump());
     add("--seam-hints", (work / "seam_hints.json").string());
   }
+  // The sandbox (sandbox.h): the worker reads its input and texture, writes
+  // only work/ (its scratch directory and cwd) and the shared field cache.
+  SandboxPaths paths;
+  paths.program = worker_bin_;
+  paths.read_files.push_back((dir / job->input_file).string());
   for (const char* tex : {"texture.png", "texture.jpg"})
-    if (fs::exists(dir / tex)) add("--texture", (dir / tex).string());
+    if (fs::exists(dir / tex)) {
+      add("--texture", (dir / tex).string());
+      paths.read_files.push_back((dir / tex).string());
+    }
+  paths.read_write = {work.string(), data_.cache().string()};
   for (auto& f : params_to_flags(job->params, caps_)) argv.push_back(f);
 
   ProcessLimits limits;
@@ -236,7 +314,11 @@ void Scheduler::run_job(const std::string& id) {
   limits.wall_seconds = config_.job_timeout_s;
   // CPU time is summed over threads: allow the wall budget on every thread.
   limits.cpu_seconds = int64_t(config_.job_timeout_s) * config_.threads_per_job() + 10;
-  std::vector<std::string> env = {"OMP_NUM_THREADS=" + std::to_string(config_.threads_per_job())};
+  std::string sandbox_error;
+  bool confined = confine_worker(config_, paths, work.string(), limits, sandbox_error);
+  RulesetCloser closer{limits.landlock_ruleset};
+  const std::vector<std::string> env = worker_environment(
+      work.string(), config_.worker_env, {"OMP_NUM_THREADS=" + std::to_string(config_.threads_per_job())});
 
   std::string stage, last_reason;
   double stage_started = now_seconds(), last_write = 0;
@@ -249,7 +331,9 @@ void Scheduler::run_job(const std::string& id) {
     auto j = nlohmann::json::parse(line, nullptr, false);
     if (!j.is_object() || !j.contains("stage") || !j["stage"].is_string()) return;
     std::string s = clean_stage(j["stage"].get<std::string>());
-    double f = j.value("fraction", 0.0);
+    // The worker's text is not trusted to be well formed: a fraction that is
+    // not a number counts as 0 (json::value would throw on it).
+    double f = j.contains("fraction") && j["fraction"].is_number() ? j["fraction"].get<double>() : 0.0;
     if (!std::isfinite(f)) f = 0;
     double now = now_seconds();
     if (s != stage) {
@@ -263,16 +347,32 @@ void Scheduler::run_job(const std::string& id) {
       last_write = 0;  // a new stage is always worth recording
     }
     if (now - last_write >= 0.2) {  // progress is chatty; the store needs ~5 Hz at most
-      store_.update_progress(id, stage, std::clamp(f, 0.0, 1.0), stage_seconds);
       last_write = now;
+      // Progress is advisory: a failed write must not stop the job.
+      try {
+        store_.update_progress(id, stage, std::clamp(f, 0.0, 1.0), stage_seconds);
+      } catch (const std::exception& e) {
+        log::warn("progress not recorded", {{"job", id}, {"error", e.what()}});
+      }
     }
   };
-  ProcessOutcome outcome = run_process(argv, env, limits, *cancel, on_line, (work / "stdout.log").string());
+  ProcessOutcome outcome;
+  if (confined) {
+    outcome = run_process(argv, env, limits, *cancel, on_line);
+  } else {  // fail closed: an untrusted model is never parsed unconfined by accident
+    log::error("worker sandbox could not be built", {{"job", id}, {"error", sandbox_error}});
+    outcome.started = false;
+    outcome.start_error = "the worker sandbox could not be set up";
+  }
   if (!stage.empty()) {
     double secs = now_seconds() - stage_started;
     stage_seconds[stage] = stage_seconds.value(stage, 0.0) + secs;
     metrics_.stage_seconds(stage, secs);
-    store_.update_progress(id, stage, 1.0, stage_seconds);
+    try {
+      store_.update_progress(id, stage, 1.0, stage_seconds);
+    } catch (const std::exception& e) {
+      log::warn("progress not recorded", {{"job", id}, {"error", e.what()}});
+    }
   }
   write_file_atomic(dir / "worker.log", outcome.stderr_tail);
 
@@ -283,8 +383,18 @@ void Scheduler::run_job(const std::string& id) {
     std::lock_guard lock(mu_);
     if (stopping_ && verdict.state == JobState::canceled) {
       auto fresh = store_.get(id);
-      if (fresh && !fresh->cancel_requested) return;
+      if (fresh && !fresh->cancel_requested) return false;
     }
+  }
+  const int attempt = job->attempts + 1;
+  if (verdict.retryable && verdict.error) {
+    if (attempt < config_.max_attempts) {
+      fs::remove_all(work);
+      log::warn("job attempt failed, retrying",
+                {{"job", id}, {"attempt", attempt}, {"error", verdict.error->detail}});
+      return store_write("requeue", [&] { store_.requeue(id); });
+    }
+    if (attempt > 1) verdict.error->detail += " (on each of " + std::to_string(attempt) + " attempts)";
   }
   std::vector<std::string> outputs;
   if (verdict.state == JobState::succeeded) {
@@ -314,12 +424,16 @@ void Scheduler::run_job(const std::string& id) {
     }
   }
   fs::remove_all(work);
-  store_.finish(id, verdict.state, verdict.error, outputs, now_seconds());
+  // If the outcome cannot be recorded the job stays running in the store and
+  // the next start runs it again (bounded by --max-attempts).
+  if (!store_write("finish", [&] { store_.finish(id, verdict.state, verdict.error, outputs, now_seconds()); }))
+    return false;
   metrics_.job_finished(to_string(verdict.state));
   nlohmann::json fields = {{"job", id}, {"state", to_string(verdict.state)}, {"seconds", outcome.seconds},
                            {"stage_seconds", stage_seconds}};
   if (verdict.error) fields["error"] = verdict.error->detail;
   log::info("job finished", fields);
+  return false;
 }
 
 }  // namespace soupuv::server

@@ -23,7 +23,7 @@ class SnapshotJobStore final : public JobStore {
   explicit SnapshotJobStore(std::unique_ptr<JobStore> durable) : durable_(std::move(durable)) {
     std::string cursor;
     do {
-      JobPage page = durable_->list(std::nullopt, 100, cursor);
+      JobPage page = durable_->list(std::nullopt, 100, cursor, std::nullopt);
       for (auto& j : page.jobs) jobs_.emplace(j.id, std::move(j));
       cursor = page.next_cursor;
     } while (!cursor.empty());
@@ -44,13 +44,20 @@ class SnapshotJobStore final : public JobStore {
   }
 
   // Paging by the store's cursor stays in SQLite (rare, and ordered by seq).
-  JobPage list(std::optional<JobState> state, int limit, const std::string& cursor) override {
-    return durable_->list(state, limit, cursor);
+  JobPage list(std::optional<JobState> state, int limit, const std::string& cursor,
+               const std::optional<std::string>& tenant) override {
+    return durable_->list(state, limit, cursor, tenant);
   }
 
   void mark_running(const std::string& id, double at) override {
     std::lock_guard w(write_mu_);
     durable_->mark_running(id, at);
+    refresh(id);
+  }
+
+  void requeue(const std::string& id) override {
+    std::lock_guard w(write_mu_);
+    durable_->requeue(id);
     refresh(id);
   }
 

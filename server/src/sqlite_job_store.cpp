@@ -1,5 +1,6 @@
 // JobStore on SQLite (Debian's libsqlite3) in WAL mode: readers (status polls)
-// never wait for the writer, and a committed transaction survives SIGKILL.
+// never wait for the writer, and a committed transaction survives SIGKILL and
+// power loss (synchronous=FULL). A failed statement throws StorageUnavailable.
 // One connection guarded by a mutex — job metadata writes are few and tiny
 // compared with the pipeline, so this is never the bottleneck.
 #include <sqlite3.h>
@@ -8,6 +9,7 @@
 #include <stdexcept>
 
 #include "soupuv/server/job_store.h"
+#include "soupuv/server/storage.h"
 
 namespace soupuv::server {
 namespace {
@@ -36,7 +38,7 @@ class Stmt {
     int rc = sqlite3_step(s_);
     if (rc == SQLITE_ROW) return true;
     if (rc == SQLITE_DONE) return false;
-    throw std::runtime_error(std::string("sqlite step: ") + sqlite3_errmsg(db_));
+    throw StorageUnavailable(std::string("sqlite step: ") + sqlite3_errmsg(db_));
   }
   int step_rc() { return sqlite3_step(s_); }
   std::string text(int c) const {
@@ -55,7 +57,15 @@ class Stmt {
 constexpr const char* kColumns =
     "id, state, created_at, started_at, finished_at, stage, fraction, stage_seconds, error_code, "
     "error_status, error_detail, params, input_file, content_type, input_bytes, idem_key, "
-    "request_hash, attempts, cancel_requested, outputs, seq";
+    "request_hash, attempts, cancel_requested, outputs, seq, tenant";
+
+// Idempotency keys are unique per tenant. The idem_key column (UNIQUE since
+// the first schema) holds "tenant\nkey"; neither part can contain '\n'
+// (validated at the API), and the tenant-less form is the key alone, as
+// before tenants existed.
+std::string stored_key(const std::string& tenant, const std::string& key) {
+  return tenant.empty() ? key : tenant + "\n" + key;
+}
 
 Job read_job(const Stmt& s) {
   Job j;
@@ -75,6 +85,7 @@ Job read_job(const Stmt& s) {
   j.content_type = s.text(13);
   j.input_bytes = s.integer(14);
   j.idempotency_key = s.text(15);
+  if (auto nl = j.idempotency_key.find('\n'); nl != std::string::npos) j.idempotency_key.erase(0, nl + 1);
   j.request_hash = s.text(16);
   j.attempts = int(s.integer(17));
   j.cancel_requested = s.integer(18) != 0;
@@ -82,6 +93,7 @@ Job read_job(const Stmt& s) {
   if (outs.is_array())
     for (const auto& o : outs)
       if (o.is_string()) j.outputs.push_back(o.get<std::string>());
+  j.tenant = s.text(21);
   return j;
 }
 
@@ -96,9 +108,11 @@ class SqliteJobStore final : public JobStore {
     }
     sqlite3_busy_timeout(db_, 5000);
     exec("PRAGMA journal_mode=WAL");
-    // NORMAL in WAL mode: a commit survives a process crash (SIGKILL); only a
-    // power loss may drop the last transactions, which restart recovery tolerates.
-    exec("PRAGMA synchronous=NORMAL");
+    // FULL: every commit is fsynced before it returns, so a job answered 202
+    // (its row committed) survives a power loss too, not only SIGKILL (NORMAL
+    // in WAL mode may lose the last commits). Writes are few (a handful per
+    // job, progress at most 5 a second per worker), so an fsync each is affordable.
+    exec("PRAGMA synchronous=FULL");
     exec(
         "CREATE TABLE IF NOT EXISTS jobs ("
         " seq INTEGER PRIMARY KEY AUTOINCREMENT,"
@@ -111,6 +125,9 @@ class SqliteJobStore final : public JobStore {
         " request_hash TEXT NOT NULL, attempts INTEGER NOT NULL DEFAULT 0,"
         " cancel_requested INTEGER NOT NULL DEFAULT 0, outputs TEXT NOT NULL DEFAULT '[]')");
     exec("CREATE INDEX IF NOT EXISTS jobs_state ON jobs(state, seq)");
+    // Databases from before tenants: their jobs belong to the tenant-less server.
+    if (!has_column("jobs", "tenant")) exec("ALTER TABLE jobs ADD COLUMN tenant TEXT NOT NULL DEFAULT ''");
+    exec("CREATE INDEX IF NOT EXISTS jobs_tenant ON jobs(tenant, seq)");
   }
   ~SqliteJobStore() override { sqlite3_close(db_); }
 
@@ -118,20 +135,20 @@ class SqliteJobStore final : public JobStore {
     std::lock_guard lock(mu_);
     Stmt s(db_,
            "INSERT INTO jobs (id, state, created_at, params, input_file, content_type, input_bytes,"
-           " idem_key, request_hash) VALUES (?,?,?,?,?,?,?,?,?)");
+           " idem_key, request_hash, tenant) VALUES (?,?,?,?,?,?,?,?,?,?)");
     s.bind(1, job.id).bind(2, std::string(to_string(job.state))).bind(3, job.created_at)
         .bind(4, job.params.dump()).bind(5, job.input_file).bind(6, job.content_type)
         .bind(7, job.input_bytes);
-    if (job.idempotency_key.empty()) s.bind_null(8); else s.bind(8, job.idempotency_key);
-    s.bind(9, job.request_hash);
+    if (job.idempotency_key.empty()) s.bind_null(8); else s.bind(8, stored_key(job.tenant, job.idempotency_key));
+    s.bind(9, job.request_hash).bind(10, job.tenant);
     int rc = s.step_rc();
     if (rc == SQLITE_DONE) return get_locked(job.id);
     if (rc == SQLITE_CONSTRAINT && !job.idempotency_key.empty()) {
       Stmt q(db_, (std::string("SELECT ") + kColumns + " FROM jobs WHERE idem_key = ?").c_str());
-      q.bind(1, job.idempotency_key);
+      q.bind(1, stored_key(job.tenant, job.idempotency_key));
       if (q.step()) return read_job(q);
     }
-    throw std::runtime_error(std::string("sqlite insert: ") + sqlite3_errmsg(db_));
+    throw StorageUnavailable(std::string("sqlite insert: ") + sqlite3_errmsg(db_));
   }
 
   std::optional<Job> get(const std::string& id) override {
@@ -139,18 +156,21 @@ class SqliteJobStore final : public JobStore {
     return get_locked(id);
   }
 
-  JobPage list(std::optional<JobState> state, int limit, const std::string& cursor) override {
+  JobPage list(std::optional<JobState> state, int limit, const std::string& cursor,
+               const std::optional<std::string>& tenant) override {
     std::lock_guard lock(mu_);
     int64_t before = INT64_MAX;
     if (!cursor.empty()) {
       try { before = std::stoll(cursor); } catch (...) { before = INT64_MAX; }
     }
     std::string sql = std::string("SELECT ") + kColumns + " FROM jobs WHERE seq < ?" +
-                      (state ? " AND state = ?" : "") + " ORDER BY seq DESC LIMIT ?";
+                      (state ? " AND state = ?" : "") + (tenant ? " AND tenant = ?" : "") +
+                      " ORDER BY seq DESC LIMIT ?";
     Stmt s(db_, sql.c_str());
     int i = 1;
     s.bind(i++, before);
     if (state) s.bind(i++, std::string(to_string(*state)));
+    if (tenant) s.bind(i++, *tenant);
     s.bind(i++, limit + 1);
     JobPage page;
     int64_t last_seq = 0;
@@ -171,6 +191,12 @@ class SqliteJobStore final : public JobStore {
            "UPDATE jobs SET state='running', started_at=?, stage='', fraction=0, attempts=attempts+1,"
            " stage_seconds='{}' WHERE id=?");
     s.bind(1, at).bind(2, id).step();
+  }
+
+  void requeue(const std::string& id) override {
+    std::lock_guard lock(mu_);
+    Stmt s(db_, "UPDATE jobs SET state='queued', stage='', fraction=0, stage_seconds='{}' WHERE id=?");
+    s.bind(1, id).step();
   }
 
   void update_progress(const std::string& id, const std::string& stage, double fraction,
@@ -242,6 +268,13 @@ class SqliteJobStore final : public JobStore {
       sqlite3_free(err);
       throw std::runtime_error(std::string("sqlite: ") + msg);
     }
+  }
+
+  bool has_column(const char* table, const char* column) {
+    Stmt s(db_, (std::string("PRAGMA table_info(") + table + ")").c_str());
+    while (s.step())
+      if (s.text(1) == column) return true;
+    return false;
   }
 
   std::optional<Job> get_locked(const std::string& id) {

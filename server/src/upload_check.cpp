@@ -17,27 +17,76 @@ uint32_t le32(const unsigned char* p) {
   return uint32_t(p[0]) | uint32_t(p[1]) << 8 | uint32_t(p[2]) << 16 | uint32_t(p[3]) << 24;
 }
 
-UploadVerdict check_uris(const nlohmann::json& doc) {
-  if (!doc.is_object()) return bad("glTF JSON must be an object");
-  for (const char* key : {"buffers", "images"}) {
-    if (!doc.contains(key)) continue;
-    if (!doc[key].is_array()) return bad(std::string(key) + " must be an array");
-    for (const auto& item : doc[key]) {
-      if (!item.is_object() || !item.contains("uri")) continue;
-      const auto& uri = item["uri"];
-      if (!uri.is_string() || uri.get<std::string>().rfind("data:", 0) != 0)
-        return {false, "external-uri",
-                std::string("external URI in ") + key +
-                    " refused: uploads must be self-contained (GLB, or glTF with data: URIs)"};
-    }
-  }
-  return {};
-}
+// The glTF JSON is attacker text parsed inside the server, so it is scanned,
+// never built into a document: memory stays O(nesting depth + longest
+// string) whatever the element count (a DOM of 64 MiB of "0," is over a GiB).
+// Nesting is capped too. What is checked: the root is an object, "buffers"
+// and "images" are arrays, and every item's "uri" is a data: URI.
+constexpr size_t kMaxDepth = 512;
 
-UploadVerdict parse_and_check(const std::string& text) {
-  auto doc = nlohmann::json::parse(text, nullptr, false);
-  if (doc.is_discarded()) return bad("the glTF JSON does not parse");
-  return check_uris(doc);
+class UriScan final : public nlohmann::json_sax<nlohmann::json> {
+ public:
+  UploadVerdict verdict;
+
+  bool null() override { return value(false, nullptr); }
+  bool boolean(bool) override { return value(false, nullptr); }
+  bool number_integer(number_integer_t) override { return value(false, nullptr); }
+  bool number_unsigned(number_unsigned_t) override { return value(false, nullptr); }
+  bool number_float(number_float_t, const string_t&) override { return value(false, nullptr); }
+  bool string(string_t& s) override { return value(false, &s); }
+  bool binary(binary_t&) override { return value(false, nullptr); }
+  bool start_object(std::size_t) override { return open('o'); }
+  bool start_array(std::size_t) override { return open('a'); }
+  bool end_object() override { return close(); }
+  bool end_array() override { return close(); }
+  bool key(string_t& k) override {
+    if (stack_.size() == 1) top_key_ = k;
+    if (in_item()) item_key_ = k;
+    return true;
+  }
+  bool parse_error(std::size_t, const std::string&, const nlohmann::detail::exception&) override {
+    if (verdict.ok) verdict = bad("the glTF JSON does not parse");
+    return false;
+  }
+
+ private:
+  bool list_key() const { return top_key_ == "buffers" || top_key_ == "images"; }
+  bool in_item() const { return stack_ == "oao" && list_key(); }
+  bool fail(UploadVerdict v) {
+    verdict = std::move(v);
+    return false;
+  }
+  // A scalar (or, with `container`, the opening of an object/array) at the current position.
+  bool value(bool container, const std::string* text) {
+    if (stack_.empty()) return fail(bad("glTF JSON must be an object"));
+    if (stack_.size() == 1 && list_key()) return fail(bad(top_key_ + " must be an array"));
+    if (in_item() && item_key_ == "uri" && (container || !text || text->rfind("data:", 0) != 0))
+      return fail({false, "external-uri",
+                   "external URI in " + top_key_ + " refused: uploads must be self-contained (GLB, or glTF with data: URIs)"});
+    return true;
+  }
+  bool open(char kind) {
+    if (stack_.size() >= kMaxDepth) return fail(bad("the glTF JSON is nested too deeply"));
+    if (stack_.empty() && kind != 'o') return fail(bad("glTF JSON must be an object"));
+    if (!stack_.empty() && !(stack_.size() == 1 && list_key() && kind == 'a') && !value(true, nullptr)) return false;
+    stack_ += kind;
+    return true;
+  }
+  bool close() {
+    if (in_item()) item_key_.clear();
+    stack_.pop_back();
+    return true;
+  }
+
+  std::string stack_;  // 'o' / 'a' per open container
+  std::string top_key_, item_key_;
+};
+
+template <typename Input>
+UploadVerdict scan_gltf_json(Input&& input) {
+  UriScan scan;
+  nlohmann::json::sax_parse(std::forward<Input>(input), &scan);
+  return scan.verdict;
 }
 
 }  // namespace
@@ -67,9 +116,7 @@ UploadVerdict check_model_file(const std::filesystem::path& file, ModelKind kind
   }
   if (kind == ModelKind::gltf) {
     if (size > kMaxJsonBytes) return {false, "too-large", "glTF JSON larger than 64 MiB"};
-    std::string text(size, '\0');
-    in.read(text.data(), std::streamsize(size));
-    return parse_and_check(text);
+    return scan_gltf_json(in);  // streamed from the file
   }
   unsigned char header[20] = {};
   in.read(reinterpret_cast<char*>(header), 20);
@@ -84,7 +131,7 @@ UploadVerdict check_model_file(const std::filesystem::path& file, ModelKind kind
   if (json_len > size - 20 || json_len > kMaxJsonBytes) return bad("GLB JSON chunk runs past the end of the file");
   std::string text(json_len, '\0');
   in.read(text.data(), std::streamsize(json_len));
-  return parse_and_check(text);
+  return scan_gltf_json(text);
 }
 
 }  // namespace soupuv::server

@@ -84,11 +84,70 @@ check("multi-stage on Debian 12", len(re.findall(r"^FROM debian:12", dockerfile,
 user = re.findall(r"^USER (\S+)", dockerfile, re.M)
 check("non-root USER", bool(user) and not user[-1].startswith("0") and user[-1] != "root", str(user))
 check("HEALTHCHECK on /healthz", re.search(r"HEALTHCHECK[\s\S]*?/healthz", dockerfile) is not None)
-docker_env = set(re.findall(r"(?<!-D)(SOUPUV_[A-Z_]+)=", dockerfile))
+# (SOUPUV_DEPS is install-deps.sh's build-stage switch, not a server option.)
+docker_env = set(re.findall(r"(?<!-D)(SOUPUV_[A-Z_]+)=", dockerfile)) - {"SOUPUV_DEPS"}
 check("Dockerfile env vars are server options", docker_env <= env_vars, str(docker_env - env_vars))
 m = re.search(r"SOUPUV_PORT=(\d+)", dockerfile)
 check("EXPOSE = SOUPUV_PORT", m is not None and f"EXPOSE {m.group(1)}" in dockerfile)
 check("installs deps through scripts/install-deps.sh", "scripts/install-deps.sh" in dockerfile)
+
+# ---- nobody gets in by default ----------------------------------------------------------------
+def loopback(host):
+    return host in ("localhost", "::1") or str(host).startswith("127.")
+
+
+def not_anonymous(name, env_map):
+    host = str(env_map.get("SOUPUV_HOST", "127.0.0.1"))
+    ok = loopback(host) or bool(env_map.get("SOUPUV_TOKENS_FILE"))
+    check(f"{name}: a non-loopback host has a tokens file", ok, f"SOUPUV_HOST={host} without SOUPUV_TOKENS_FILE")
+    check(f"{name}: not anonymous on purpose", str(env_map.get("SOUPUV_ALLOW_ANONYMOUS", "false")).lower()
+          in ("0", "false", "no", "off"))
+
+
+docker_env_map = dict(re.findall(r"(?<!-D)(SOUPUV_[A-Z_]+)=(\S+)", dockerfile))
+not_anonymous("Dockerfile", docker_env_map)
+not_anonymous("compose", env)
+not_anonymous("k8s ConfigMap", cm)
+# compose: the tokens file is a secret at SOUPUV_TOKENS_FILE; the only published port is on loopback.
+secret_files = {k: v["file"] for k, v in compose.get("secrets", {}).items()}
+check("compose tokens secret mounted where SOUPUV_TOKENS_FILE points",
+      env.get("SOUPUV_TOKENS_FILE") in [f"/run/secrets/{n}" for n in svc.get("secrets", []) if n in secret_files],
+      str(svc.get("secrets")))
+check("compose tokens file is git-ignored",
+      all(f.startswith("./secrets/") for f in secret_files.values())
+      and "/deploy/secrets/" in open(os.path.join(src, ".gitignore")).read())
+published = [p for s in compose["services"].values() for p in s.get("ports", [])]
+check("compose publishes on 127.0.0.1 only", all(str(p).startswith("127.0.0.1:") for p in published), str(published))
+# k8s: the tokens file comes from a Secret mounted at its directory.
+tokens_dir = os.path.dirname(cm.get("SOUPUV_TOKENS_FILE", ""))
+mounts = {m["name"]: m for m in c["volumeMounts"]}
+vols = {v["name"]: v for v in pod["volumes"]}
+secret_mounts = [m for n, m in mounts.items() if "secret" in vols.get(n, {}) and m["mountPath"] == tokens_dir]
+check("k8s tokens Secret mounted at the tokens file's directory", len(secret_mounts) == 1, tokens_dir)
+# Docker reads .dockerignore at the build context's root (compose: context ..).
+ignore = os.path.join(src, "deploy", svc["build"]["context"], ".dockerignore")
+check(".dockerignore at the build context root", os.path.exists(ignore))
+if os.path.exists(ignore):
+    patterns = open(ignore).read().split()
+    check(".dockerignore keeps build trees and secrets out", {"build*", "deploy/secrets", ".git"} <= set(patterns),
+          str(patterns))
+
+# ---- a read-only root needs a writable /tmp; the image builds without test packages ----------
+csec = c.get("securityContext", {})
+if csec.get("readOnlyRootFilesystem"):
+    tmp = [m for m in c["volumeMounts"] if m["mountPath"] == "/tmp"]
+    check("k8s read-only root has a writable /tmp volume",
+          len(tmp) == 1 and "emptyDir" in vols.get(tmp[0]["name"], {}), str(c["volumeMounts"]))
+check("Dockerfile build stage installs build packages only", "SOUPUV_DEPS=build bash scripts/install-deps.sh" in dockerfile)
+build_list = subprocess.run(["bash", os.path.join(src, "scripts/install-deps.sh"), "--print"],
+                            env=dict(os.environ, SOUPUV_DEPS="build"), capture_output=True, text=True).stdout.split()
+test_only = {"libgtest-dev", "libgmock-dev", "chromium", "nginx-light", "clang", "python3-yaml"}
+check("SOUPUV_DEPS=build has no test-only package", bool(build_list) and not (set(build_list) & test_only),
+      str(set(build_list) & test_only))
+full_list = subprocess.run(["bash", os.path.join(src, "scripts/install-deps.sh"), "--print"],
+                           env={k: v for k, v in os.environ.items() if k != "SOUPUV_DEPS"},
+                           capture_output=True, text=True).stdout.split()
+check("the full dependency list still has the test packages", test_only <= set(full_list))
 
 # ---- nginx --------------------------------------------------------------------------------
 conf = open(os.path.join(src, "deploy/nginx/soupuv.conf")).read()

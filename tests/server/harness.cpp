@@ -10,6 +10,7 @@
 #include <unistd.h>
 
 #include <chrono>
+#include <cstdlib>
 #include <fstream>
 #include <regex>
 #include <stdexcept>
@@ -36,8 +37,11 @@ std::string shared_data(const std::string& rel) { return std::string(SOUPUV_SHAR
 bool cli_available() { return std::string(SOUPUV_CLI_BIN).size() > 0 && access(SOUPUV_CLI_BIN, X_OK) == 0; }
 
 ServerProcess::ServerProcess(fs::path data_dir, std::vector<std::string> args, std::vector<std::string> env) {
-  std::vector<std::string> argv = {SOUPUV_SERVER_BIN, "--host", "127.0.0.1", "--port", "0", "--data-dir",
-                                   data_dir.string()};
+  // SOUPUV_TEST_SERVER_BIN runs the black-box tests against another build
+  // (e.g. the previous commit's server, to see a new test fail there).
+  const char* other = std::getenv("SOUPUV_TEST_SERVER_BIN");
+  std::vector<std::string> argv = {other && *other ? other : SOUPUV_SERVER_BIN, "--host", "127.0.0.1", "--port", "0",
+                                   "--data-dir", data_dir.string()};
   argv.insert(argv.end(), args.begin(), args.end());
   std::vector<std::string> envs;
   for (char** e = environ; *e; ++e) envs.emplace_back(*e);
@@ -87,7 +91,15 @@ ServerProcess::ServerProcess(fs::path data_dir, std::vector<std::string> args, s
     }
     std::this_thread::sleep_for(std::chrono::milliseconds(20));
   }
-  if (port_ == 0) throw std::runtime_error("server did not start: " + log());
+  if (port_ == 0) {
+    // No destructor runs for a constructor that throws: end the process and
+    // the reader here (a joinable thread member would std::terminate), so
+    // the message has everything the server said.
+    if (pid_ > 0) kill_hard();
+    reader_.join();
+    close(err_fd_);
+    throw std::runtime_error("server did not start: " + log());
+  }
 }
 
 ServerProcess::~ServerProcess() {
@@ -184,6 +196,37 @@ nlohmann::json wait_finished(httplib::Client& c, const std::string& id, double t
     std::this_thread::sleep_for(std::chrono::milliseconds(50));
   }
   return last;
+}
+
+nlohmann::json wait_state(httplib::Client& c, const std::string& id, const std::string& state, double timeout_s) {
+  auto deadline = std::chrono::steady_clock::now() + std::chrono::duration<double>(timeout_s);
+  nlohmann::json j;
+  while (std::chrono::steady_clock::now() < deadline) {
+    auto r = c.Get(("/v1/jobs/" + id).c_str());
+    if (r && r->status == 200) {
+      j = nlohmann::json::parse(r->body);
+      if (j["state"] == state) return j;
+    }
+    std::this_thread::sleep_for(std::chrono::milliseconds(50));
+  }
+  return j;
+}
+
+std::unique_ptr<ServerProcess> with_double(const std::string& name, const std::string& mode,
+                                           std::vector<std::string> args, const std::string& seconds,
+                                           std::vector<std::string> env) {
+  std::vector<std::string> a = {"--worker-bin", SOUPUV_WORKER_DOUBLE, "--validate-uploads", "false", "--worker-env",
+                                kDoubleEnv};
+  a.insert(a.end(), args.begin(), args.end());
+  env.push_back("SOUPUV_TEST_WORKER_MODE=" + mode);
+  env.push_back("SOUPUV_TEST_WORKER_SECONDS=" + seconds);
+  return std::make_unique<ServerProcess>(fresh_dir(name), a, env);
+}
+
+std::string submit_box(httplib::Client& c, const httplib::Headers& headers) {
+  auto r = submit(c, read_bytes(shared_data("gltf/Box.glb")), "model/gltf-binary", "", headers);
+  if (!r || r->status != 202) return "";
+  return nlohmann::json::parse(r->body)["id"];
 }
 
 }  // namespace soupuv::test

@@ -56,4 +56,21 @@ httplib::Result submit(httplib::Client& c, const std::string& bytes, const std::
 // Polls GET /v1/jobs/{id} until a finished state or timeout; returns the last job JSON.
 nlohmann::json wait_finished(httplib::Client& c, const std::string& id, double timeout_s = 60);
 
+// Polls GET /v1/jobs/{id} until its state is `state` or timeout; returns the last job JSON.
+nlohmann::json wait_state(httplib::Client& c, const std::string& id, const std::string& state,
+                          double timeout_s = 20);
+
+// The variables worker_double.sh reads, which the server must pass to it
+// (workers get a minimal environment: --worker-env).
+inline constexpr const char* kDoubleEnv =
+    "SOUPUV_TEST_WORKER_MODE,SOUPUV_TEST_WORKER_SECONDS,SOUPUV_TEST_ESCAPE_READ,SOUPUV_TEST_ESCAPE_WRITE";
+
+// A server whose worker is tests/server/worker_double.sh in `mode` (uploads not
+// inspected), each job lasting `seconds` in the modes that sleep.
+std::unique_ptr<ServerProcess> with_double(const std::string& name, const std::string& mode,
+                                           std::vector<std::string> args = {}, const std::string& seconds = "30",
+                                           std::vector<std::string> env = {});
+// Submits the shared Box.glb; the job id, or "" if not accepted.
+std::string submit_box(httplib::Client& c, const httplib::Headers& headers = {});
+
 }  // namespace soupuv::test

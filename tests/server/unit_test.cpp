@@ -102,17 +102,44 @@ TEST(Auth, ConstantTimeCompareAndBearerParsing) {
   EXPECT_FALSE(constant_time_equal("abc", "abcd"));
   EXPECT_FALSE(constant_time_equal("", "a"));
   EXPECT_EQ(TokenSet::bearer("Bearer xyz"), "xyz");
+  EXPECT_EQ(TokenSet::bearer("bearer xyz"), "xyz");  // the scheme is case-insensitive (RFC 9110 11.1)
+  EXPECT_EQ(TokenSet::bearer("BEARER  xyz "), "xyz");
   EXPECT_EQ(TokenSet::bearer("Basic xyz"), "");
+  EXPECT_EQ(TokenSet::bearer("Bearerxyz"), "");
   EXPECT_EQ(TokenSet::bearer("Bearer "), "");
+  EXPECT_EQ(TokenSet::bearer("Bearer a b"), "");
+}
+
+TEST(Auth, TokensFileNamesTenantsAndRefusesWeakTokens) {
+  const std::string a(32, 'a'), b = std::string(40, 'b'), c = "c" + std::string(35, '7');
   fs::path dir = soupuv::test::fresh_dir("tokens");
-  std::ofstream(dir / "t") << "# comment\n\nsecret-one\n  secret-two  \n";
+  std::ofstream(dir / "t") << "# comment\n\nalice " << a << "\n  bob\t" << b << "  \r\n" << c << "\n";
   TokenSet t = TokenSet::load((dir / "t").string());
-  EXPECT_TRUE(t.accepts("secret-one"));
-  EXPECT_TRUE(t.accepts("secret-two"));
-  EXPECT_FALSE(t.accepts("secret"));
-  EXPECT_FALSE(t.accepts(""));
-  std::ofstream(dir / "empty") << "# nothing\n";
-  EXPECT_THROW(TokenSet::load((dir / "empty").string()), std::runtime_error);
+  EXPECT_EQ(t.size(), 3u);
+  EXPECT_EQ(t.tenant_for(a), "alice");
+  EXPECT_EQ(t.tenant_for(b), "bob");
+  // A token alone is its own tenant, named by a hash, never by the token.
+  auto own = t.tenant_for(c);
+  ASSERT_TRUE(own);
+  EXPECT_EQ(own->rfind("token-", 0), 0u);
+  EXPECT_EQ(own->size(), 6u + 16u);
+  EXPECT_EQ(own->find(c.substr(0, 8)), std::string::npos);
+  EXPECT_FALSE(t.tenant_for(a.substr(0, 31)));
+  EXPECT_FALSE(t.tenant_for(""));
+  auto refused = [&](const std::string& text) {
+    std::ofstream(dir / "bad") << text;
+    try {
+      TokenSet::load((dir / "bad").string());
+    } catch (const std::runtime_error& e) {
+      return std::string(e.what());
+    }
+    return std::string();
+  };
+  EXPECT_NE(refused("# nothing\n").find("no tokens"), std::string::npos);
+  EXPECT_NE(refused("alice short-token\n").find("line 1: token shorter than 32 bytes"), std::string::npos);
+  EXPECT_NE(refused(a + "\nbob " + a + "\n").find("line 2: token listed twice"), std::string::npos);
+  EXPECT_NE(refused("al/ice " + a + "\n").find("tenant"), std::string::npos);
+  EXPECT_NE(refused("x y " + a + "\n").find("TENANT TOKEN"), std::string::npos);
 }
 
 TEST(Guards, RefuseBeforeTheBody) {
@@ -212,17 +239,17 @@ TEST(SqliteJobStore, LifecyclePagingIdempotencyAndPersistence) {
     store->finish(ids[2], JobState::failed, JobError{"invalid_input", 400, "bad"}, {}, now_seconds() - 100);
     store->finish(ids[3], JobState::succeeded, std::nullopt, {"result.glb"}, now_seconds());
 
-    auto p1 = store->list(std::nullopt, 2, "");
+    auto p1 = store->list(std::nullopt, 2, "", std::nullopt);
     ASSERT_EQ(p1.jobs.size(), 2u);
     EXPECT_EQ(p1.jobs[0].id, ids[4]);  // newest first
     EXPECT_FALSE(p1.next_cursor.empty());
-    auto p2 = store->list(std::nullopt, 2, p1.next_cursor);
+    auto p2 = store->list(std::nullopt, 2, p1.next_cursor, std::nullopt);
     ASSERT_EQ(p2.jobs.size(), 2u);
     EXPECT_EQ(p2.jobs[0].id, ids[2]);
-    auto p3 = store->list(std::nullopt, 2, p2.next_cursor);
+    auto p3 = store->list(std::nullopt, 2, p2.next_cursor, std::nullopt);
     ASSERT_EQ(p3.jobs.size(), 1u);
     EXPECT_TRUE(p3.next_cursor.empty());
-    auto failed = store->list(JobState::failed, 10, "");
+    auto failed = store->list(JobState::failed, 10, "", std::nullopt);
     ASSERT_EQ(failed.jobs.size(), 1u);
     EXPECT_EQ(failed.jobs[0].error->detail, "bad");
     EXPECT_EQ(store->count_by_state()["queued"], 2);
@@ -257,4 +284,48 @@ TEST(Files, AtomicWriteAndBoundedWriter) {
   EXPECT_TRUE(w.over_budget());
   w.finish();
   EXPECT_EQ(fs::file_size(dir / "b"), 5u);
+}
+
+namespace {
+int64_t peak_rss_kib() {
+  std::ifstream in("/proc/self/status");
+  std::string line;
+  while (std::getline(in, line))
+    if (line.rfind("VmHWM:", 0) == 0) return std::stoll(line.substr(6));
+  return -1;
+}
+}  // namespace
+
+// The glTF JSON of an upload is attacker text parsed inside the server: it is
+// scanned (SAX), not built into a document, and its nesting is capped.
+TEST(UploadCheck, JsonIsScannedNotBuiltAndNestingIsCapped) {
+  fs::path dir = soupuv::test::fresh_dir("json-scan");
+  {
+    // 40 MB of tiny elements: as a DOM (16+ bytes each, vectors doubling) this
+    // is several hundred MB; a scan needs almost nothing.
+    std::string text = R"({"asset":{"version":"2.0"},"extras":[)";
+    text.reserve(40 << 20);
+    while (text.size() < (40u << 20)) text += "0,";
+    text += R"(0],"buffers":[{"uri":"data:application/octet-stream;base64,AAAA"}]})";
+    std::ofstream(dir / "flat.gltf") << text;
+  }
+  const int64_t before = peak_rss_kib();
+  EXPECT_TRUE(check_model_file(dir / "flat.gltf", ModelKind::gltf).ok);
+  EXPECT_LT(peak_rss_kib() - before, 64 * 1024) << "KiB of peak RSS added by the check";
+
+  std::ofstream(dir / "deep.gltf") << R"({"extras":)" << std::string(100000, '[') << std::string(100000, ']') << "}";
+  auto deep = check_model_file(dir / "deep.gltf", ModelKind::gltf);
+  EXPECT_FALSE(deep.ok);
+  EXPECT_NE(deep.detail.find("nested too deeply"), std::string::npos) << deep.detail;
+  // The checks themselves are unchanged: external URIs, non-object roots, lists.
+  std::ofstream(dir / "ext.gltf") << R"({"images":[{"uri":"https://example.com/x.png"}]})";
+  EXPECT_EQ(check_model_file(dir / "ext.gltf", ModelKind::gltf).slug, "external-uri");
+  std::ofstream(dir / "uri-num.gltf") << R"({"buffers":[{"uri":{"nested":1}}]})";
+  EXPECT_EQ(check_model_file(dir / "uri-num.gltf", ModelKind::gltf).slug, "external-uri");
+  std::ofstream(dir / "root.gltf") << R"([1,2])";
+  EXPECT_FALSE(check_model_file(dir / "root.gltf", ModelKind::gltf).ok);
+  std::ofstream(dir / "list.gltf") << R"({"buffers":{"uri":"data:,"}})";
+  EXPECT_NE(check_model_file(dir / "list.gltf", ModelKind::gltf).detail.find("must be an array"), std::string::npos);
+  std::ofstream(dir / "broken.gltf") << R"({"buffers":[)";
+  EXPECT_NE(check_model_file(dir / "broken.gltf", ModelKind::gltf).detail.find("does not parse"), std::string::npos);
 }

@@ -34,7 +34,7 @@ struct ServerContext {
   std::unique_ptr<DataDir> data;
   std::unique_ptr<JobStore> store;
   Metrics metrics;
-  TokenSet tokens;
+  TokenRegistry tokens;  // empty set: no authentication (loopback or --allow-anonymous)
   std::string worker_bin;  // empty: none found
   WorkerCapabilities caps;
   std::unique_ptr<Scheduler> scheduler;
@@ -53,6 +53,9 @@ class App {
   int port() const { return port_; }
   void serve();
   void stop();
+  // Re-reads --tokens-file (SIGHUP). A file that no longer loads keeps the
+  // tokens in force (never falls open) and is logged; false then.
+  bool reload_tokens();
 
  private:
   void sweep_loop();
@@ -60,11 +63,17 @@ class App {
   ServerContext ctx_;
   HttpServer http_;
   int port_ = 0;
+  // --metrics-port: /metrics alone, no token (nullptr when not configured).
+  std::unique_ptr<httplib::Server> metrics_http_;
+  std::thread metrics_thread_;
   std::thread sweeper_;
   std::mutex sweep_mu_;
   std::condition_variable sweep_cv_;
   bool stopping_ = false;
 };
+
+// Prometheus text for /metrics (routes.cpp), on the main port or --metrics-port.
+std::string render_metrics(ServerContext& ctx);
 
 // Registers every route (routes.cpp). The table of (method, OpenAPI path) is
 // what the contract test compares with proto/openapi.yaml.

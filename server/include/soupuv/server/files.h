@@ -41,6 +41,8 @@ void fsync_path(const std::filesystem::path& path);
 std::string read_file(const std::filesystem::path& path, int64_t max_bytes);
 
 // Streams bytes to a file with a hard byte budget; the caller renames on success.
+// A full disk or quota throws StorageUnavailable (storage.h), other I/O errors
+// std::runtime_error.
 class BoundedFileWriter {
  public:
   BoundedFileWriter(const std::filesystem::path& path, int64_t budget);
@@ -53,6 +55,7 @@ class BoundedFileWriter {
 
  private:
   int fd_ = -1;
+  std::filesystem::path path_;
   int64_t budget_, bytes_ = 0;
   bool over_ = false;
 };

@@ -12,18 +12,49 @@
 //    close_connection_after(res); our connection loop (replacing
 //    0.11.4's, same steps) then closes the socket instead of reading on.
 //    Successful requests keep the connection (fewer TCP handshakes per poll).
+//
+// 3. Slow clients hold no HTTP thread: accepted connections go to a
+//    ConnectionGate (connection_gate.h), an epoll thread that waits for each
+//    request head (bounded in time and size) and lingers after refusals;
+//    only a complete head is served, on this class's own pool of
+//    `worker_threads` (httplib's task queue just hands sockets over). A
+//    request body must keep arriving at min_body_rate after a grace period.
 #pragma once
 
 #include <httplib.h>
+
+#include <memory>
+#include <mutex>
+
+#include "soupuv/server/connection_gate.h"
 
 namespace soupuv::server {
 
 class HttpServer : public httplib::Server {
  public:
+  struct Limits {
+    ConnectionGate::Limits gate;
+    size_t worker_threads = 32;
+    double min_body_rate = 1024;        // bytes/s a body must average ...
+    double body_grace_seconds = 10;     // ... once it has taken this long
+  };
+  HttpServer();
+  ~HttpServer() override;
+  void set_limits(const Limits& limits);  // before listening (the constructor sets the defaults)
   bool set_listen_backlog(int backlog);
+  // After stop(): closes the connections waiting in the gate and waits for
+  // the requests being served.
+  void close_connections();
 
  private:
   bool process_and_close_socket(socket_t sock) override;
+  void serve(int fd, std::string buffered, size_t served);
+
+  Limits limits_;
+  std::unique_ptr<ConnectionGate> gate_;
+  std::unique_ptr<httplib::ThreadPool> pool_;
+  std::mutex close_mu_;
+  bool closed_ = false;
 };
 
 // For the request being handled on this thread: answer with "Connection:

@@ -37,7 +37,8 @@ struct Job {
   std::string input_file;     // file name inside the job directory (input.glb, ...)
   std::string content_type;   // of the uploaded model
   int64_t input_bytes = 0;
-  std::string idempotency_key;
+  std::string tenant;          // who may see it (auth.h); "" when the server runs without tokens
+  std::string idempotency_key;  // the client's key; unique per tenant
   std::string request_hash;   // body + params, for Idempotency-Key reuse checks
   int attempts = 0;           // worker starts (restart recovery re-runs)
   bool cancel_requested = false;

@@ -22,14 +22,18 @@ class JobStore {
  public:
   virtual ~JobStore() = default;
 
-  // Inserts a new job. If job.idempotency_key is set and already used, nothing
-  // is inserted and the existing job is returned instead.
+  // Inserts a new job. If job.idempotency_key is set and already used by the
+  // same tenant, nothing is inserted and that tenant's job is returned instead.
   virtual std::optional<Job> create_or_get_by_key(const Job& job) = 0;
   virtual std::optional<Job> get(const std::string& id) = 0;
-  // Newest first; cursor is an opaque value from a previous page.
-  virtual JobPage list(std::optional<JobState> state, int limit, const std::string& cursor) = 0;
+  // Newest first; cursor is an opaque value from a previous page. `tenant`:
+  // only that tenant's jobs; nullopt: every job (startup, the sweeper).
+  virtual JobPage list(std::optional<JobState> state, int limit, const std::string& cursor,
+                       const std::optional<std::string>& tenant) = 0;
 
   virtual void mark_running(const std::string& id, double at) = 0;  // attempts += 1
+  // Back to queued for another attempt (attempts kept, progress cleared).
+  virtual void requeue(const std::string& id) = 0;
   virtual void update_progress(const std::string& id, const std::string& stage, double fraction,
                                const nlohmann::json& stage_seconds) = 0;
   virtual void finish(const std::string& id, JobState state, const std::optional<JobError>& error,

@@ -11,6 +11,7 @@
 #include <atomic>
 #include <condition_variable>
 #include <deque>
+#include <functional>
 #include <map>
 #include <memory>
 #include <mutex>
@@ -51,7 +52,13 @@ class Scheduler {
 
  private:
   void worker_loop();
-  void run_job(const std::string& id);
+  // True when the job should run again (a retryable failure, or its start
+  // could not be recorded); worker_loop re-queues it once it is off running_.
+  bool run_job(const std::string& id);
+  // Runs a store write, retrying a failing one (SQLITE_BUSY, a disk freed by
+  // the sweeper) for a few seconds; false, logged, if it never succeeds.
+  bool store_write(const char* what, const std::function<void()>& write);
+  void remove_work_dir(const std::string& id) noexcept;
 
   const Config& config_;
   std::string worker_bin_;
@@ -72,6 +79,8 @@ class Scheduler {
 struct WorkerVerdict {
   JobState state;
   std::optional<JobError> error;
+  // A crash or an outside kill: another attempt may succeed (up to --max-attempts).
+  bool retryable = false;
 };
 struct ProcessOutcome;
 WorkerVerdict classify_outcome(const ProcessOutcome& outcome, const std::string& last_reason,
