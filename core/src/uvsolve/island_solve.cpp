@@ -6,13 +6,12 @@
 #include <numeric>
 
 #include "transfer/slim.h"
-#include "transfer/sym_dirichlet.h"
+#include "uvsolve/local_island.h"
 
 namespace soupuv::uvsolve::detail {
 
 SolveFigures solve_islands(const Soup& soup, double uv_per_length, int max_iterations, int threads,
                            UvLayout& L) {
-  using transfer::detail::RestTriangle;
   SolveFigures f;
   const auto islands = island_triangles(L);
   std::vector<uint32_t> order(islands.size());
@@ -26,24 +25,11 @@ SolveFigures solve_islands(const Soup& soup, double uv_per_length, int max_itera
     reduction(+ : before, after, rest_area, solved, unstarted) reduction(max : max_used)
   for (size_t o = 0; o < order.size(); ++o) {
     const auto& tris = islands[order[o]];
-    // Local numbering of the island's vertices.
-    std::vector<uint32_t> global;
-    std::vector<std::array<uint32_t, 3>> local(tris.size());
-    std::vector<RestTriangle> rest(tris.size());
-    for (size_t i = 0; i < tris.size(); ++i) {
-      const uint32_t t = tris[i];
-      local[i] = L.corner_vertex[t];  // renumbered below
-      rest[i] = transfer::detail::rest_triangle(soup.corner(t, 0), soup.corner(t, 1), soup.corner(t, 2),
-                                                uv_per_length, 1.0);
-      rest_area += rest[i].area;
-    }
-    for (const auto& tri : local) global.insert(global.end(), tri.begin(), tri.end());
-    std::sort(global.begin(), global.end());
-    global.erase(std::unique(global.begin(), global.end()), global.end());
-    for (auto& tri : local)
-      for (uint32_t& v : tri) v = uint32_t(std::lower_bound(global.begin(), global.end(), v) - global.begin());
-    std::vector<Vec2> uv(global.size());
-    for (size_t i = 0; i < global.size(); ++i) uv[i] = L.uv[global[i]];
+    LocalIsland m = local_island(soup, uv_per_length, tris, L);
+    for (const auto& r : m.rest) rest_area += r.area;
+    std::vector<Vec2>& uv = m.uv;
+    const auto& rest = m.rest;
+    const auto& local = m.triangles;
     if (tris.size() == 1) {
       // One triangle: its rest shape, placed at its current centroid.
       if (rest[0].valid) {
@@ -65,7 +51,7 @@ SolveFigures solve_islands(const Soup& soup, double uv_per_length, int max_itera
       ++solved;
       max_used = std::max(max_used, r.iterations);
     }
-    for (size_t i = 0; i < global.size(); ++i) L.uv[global[i]] = uv[i];
+    write_back(m, L);
   }
   f.solved_islands = solved;
   f.unstarted_islands = unstarted;

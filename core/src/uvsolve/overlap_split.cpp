@@ -4,35 +4,19 @@
 #include <cmath>
 #include <deque>
 
+#include "soupuv/quality/uv_overlap.h"
+
 namespace soupuv::uvsolve::detail {
 namespace {
 
-// Calls f(index) for every sample point (i + 1/2, j + 1/2) of the grid
-// (origin, cell, width) strictly inside the triangle, edges half-open by the
-// top-left rule; the triangle must be counter-clockwise.
+// Calls f(index) for every sample point of the grid (origin, cell, width)
+// inside the counter-clockwise triangle p (quality::for_each_pixel_centre's
+// rule: two triangles side by side never share a sample).
 template <class F>
 void for_each_sample(const std::array<Vec2, 3>& p, Vec2 origin, double cell, int width, int height, F&& f) {
   std::array<Vec2, 3> q;
   for (int k = 0; k < 3; ++k) q[k] = (1.0 / cell) * (p[k] - origin);
-  const double x0 = std::min({q[0].x, q[1].x, q[2].x}), x1 = std::max({q[0].x, q[1].x, q[2].x});
-  const double y0 = std::min({q[0].y, q[1].y, q[2].y}), y1 = std::max({q[0].y, q[1].y, q[2].y});
-  const int i0 = std::max(0, int(std::ceil(x0 - 0.5))), i1 = std::min(width - 1, int(std::floor(x1 - 0.5)));
-  const int j0 = std::max(0, int(std::ceil(y0 - 0.5))), j1 = std::min(height - 1, int(std::floor(y1 - 0.5)));
-  for (int j = j0; j <= j1; ++j)
-    for (int i = i0; i <= i1; ++i) {
-      const double cx = i + 0.5, cy = j + 0.5;
-      bool inside = true;
-      for (int e = 0; e < 3 && inside; ++e) {
-        const Vec2 a = q[e], b = q[(e + 1) % 3];
-        const double dx = b.x - a.x, dy = b.y - a.y;
-        const double w = dx * (cy - a.y) - dy * (cx - a.x);
-        // Counter-clockwise: inside is w > 0; an edge's own points belong to
-        // the triangle on its top or left side only.
-        const bool top_left = dy < 0 || (dy == 0 && dx > 0);
-        inside = w > 0 || (w == 0 && top_left);
-      }
-      if (inside) f(size_t(j) * width + i);
-    }
+  quality::for_each_pixel_centre(q, width, height, [&](int i, int j) { f(size_t(j) * width + i); });
 }
 
 // A triangle overlapping by at most this many samples may stay, while the

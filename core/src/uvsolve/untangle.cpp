@@ -5,7 +5,7 @@
 #include <algorithm>
 #include <cmath>
 
-#include "transfer/sym_dirichlet.h"
+#include "uvsolve/local_island.h"
 
 namespace soupuv::uvsolve::detail {
 
@@ -87,22 +87,9 @@ bool arap(const std::vector<std::array<uint32_t, 3>>& tri,
 
 bool arap_island(const Soup& soup, double uv_per_length, const std::vector<uint32_t>& tris, int iterations,
                  UvLayout& L) {
-  std::vector<uint32_t> global;
-  for (uint32_t t : tris) global.insert(global.end(), L.corner_vertex[t].begin(), L.corner_vertex[t].end());
-  std::sort(global.begin(), global.end());
-  global.erase(std::unique(global.begin(), global.end()), global.end());
-  std::vector<std::array<uint32_t, 3>> local(tris.size());
-  std::vector<transfer::detail::RestTriangle> rest(tris.size());
-  for (size_t j = 0; j < tris.size(); ++j) {
-    for (int k = 0; k < 3; ++k)
-      local[j][k] = uint32_t(std::lower_bound(global.begin(), global.end(), L.corner_vertex[tris[j]][k]) - global.begin());
-    rest[j] = transfer::detail::rest_triangle(soup.corner(tris[j], 0), soup.corner(tris[j], 1),
-                                              soup.corner(tris[j], 2), uv_per_length, 1.0);
-  }
-  std::vector<Vec2> uv(global.size());
-  for (size_t v = 0; v < global.size(); ++v) uv[v] = L.uv[global[v]];
-  if (!arap(local, rest, iterations, uv)) return false;
-  for (size_t v = 0; v < global.size(); ++v) L.uv[global[v]] = uv[v];
+  LocalIsland m = local_island(soup, uv_per_length, tris, L);
+  if (!arap(m.triangles, m.rest, iterations, m.uv)) return false;
+  write_back(m, L);
   return true;
 }
 
@@ -123,33 +110,21 @@ UntangleFigures untangle_islands(const Soup& soup, double uv_per_length, double 
       continue;
     }
     ++folded_islands;
-    std::vector<uint32_t> global;
-    for (uint32_t t : tris) global.insert(global.end(), L.corner_vertex[t].begin(), L.corner_vertex[t].end());
-    std::sort(global.begin(), global.end());
-    global.erase(std::unique(global.begin(), global.end()), global.end());
-    std::vector<std::array<uint32_t, 3>> local(tris.size());
-    std::vector<transfer::detail::RestTriangle> rest(tris.size());
-    for (size_t j = 0; j < tris.size(); ++j) {
-      for (int k = 0; k < 3; ++k)
-        local[j][k] = uint32_t(std::lower_bound(global.begin(), global.end(), L.corner_vertex[tris[j]][k]) - global.begin());
-      rest[j] = transfer::detail::rest_triangle(soup.corner(tris[j], 0), soup.corner(tris[j], 1),
-                                                soup.corner(tris[j], 2), uv_per_length, 1.0);
-    }
-    std::vector<Vec2> uv(global.size());
-    for (size_t v = 0; v < global.size(); ++v) uv[v] = L.uv[global[v]];
-    if (!arap(local, rest, iterations, uv)) {
+    LocalIsland m = local_island(soup, uv_per_length, tris, L);
+    if (!arap(m.triangles, m.rest, iterations, m.uv)) {
       bad_after += bad;
       continue;
     }
     size_t bad_now = 0;
     for (size_t j = 0; j < tris.size(); ++j) {
-      const Vec2 a = uv[local[j][0]], b = uv[local[j][1]], c = uv[local[j][2]];
-      const double area = 0.5 * cross(b - a, c - a), r = rest[j].valid ? rest[j].area : 0;
+      const auto& tri = m.triangles[j];
+      const Vec2 a = m.uv[tri[0]], b = m.uv[tri[1]], c = m.uv[tri[2]];
+      const double area = 0.5 * cross(b - a, c - a), r = m.rest[j].valid ? m.rest[j].area : 0;
       bad_now += r == 0 ? area < 0 : !(area > collapse_ratio * r);
     }
     if (bad_now < bad) {
       ++untangled;
-      for (size_t v = 0; v < global.size(); ++v) L.uv[global[v]] = uv[v];
+      write_back(m, L);
       bad_after += bad_now;
     } else {
       bad_after += bad;

@@ -13,7 +13,9 @@
 // Cost  : O(raster^2) memory, O(pixels in the triangles' boxes) time.
 #pragma once
 
+#include <algorithm>
 #include <array>
+#include <cmath>
 #include <cstdint>
 #include <vector>
 
@@ -25,6 +27,32 @@ struct UvOverlap {
   double utilisation = 0;
   double overlap = 0;
 };
+
+// Calls f(ix, iy) for every sample point (ix + 1/2, iy + 1/2) of a width x
+// height grid strictly inside the counter-clockwise triangle q (grid
+// units), an edge's own points belonging to the triangle on its top or left
+// side only, so two triangles side by side never share a sample: the rule
+// of eval/uvmetrics.py's raster, shared with the UV solve's overlap split.
+template <class F>
+void for_each_pixel_centre(const std::array<Vec2, 3>& q, int width, int height, F&& f) {
+  const double x0 = std::min({q[0].x, q[1].x, q[2].x}), x1 = std::max({q[0].x, q[1].x, q[2].x});
+  const double y0 = std::min({q[0].y, q[1].y, q[2].y}), y1 = std::max({q[0].y, q[1].y, q[2].y});
+  const int i0 = std::max(0, int(std::ceil(x0 - 0.5))), i1 = std::min(width - 1, int(std::floor(x1 - 0.5)));
+  const int j0 = std::max(0, int(std::ceil(y0 - 0.5))), j1 = std::min(height - 1, int(std::floor(y1 - 0.5)));
+  for (int j = j0; j <= j1; ++j)
+    for (int i = i0; i <= i1; ++i) {
+      const double cx = i + 0.5, cy = j + 0.5;
+      bool inside = true;
+      for (int e = 0; e < 3 && inside; ++e) {
+        const Vec2 a = q[e], b = q[(e + 1) % 3];
+        const double dx = b.x - a.x, dy = b.y - a.y;
+        const double w = dx * (cy - a.y) - dy * (cx - a.x);
+        const bool top_left = dy < 0 || (dy == 0 && dx > 0);
+        inside = w > 0 || (w == 0 && top_left);
+      }
+      if (inside) f(i, j);
+    }
+}
 
 UvOverlap uv_overlap(const std::vector<std::array<Vec2, 3>>& uvs, const std::vector<uint8_t>& include,
                      int raster = 512);
