@@ -14,7 +14,7 @@ build_packages=(
 )
 # Tests only: GoogleTest, clang + libFuzzer and OpenMP for it (fuzz target),
 # chromium (browser test), nginx (reverse-proxy test), curl, python3-yaml
-# (deploy-file checks), python3-numpy + python3-scipy (cli.metrics_agree runs
+# (deploy-file checks), python3-numpy + python3-scipy (cli.field.metrics_agree runs
 # ../shared/eval/uvmetrics.py).
 test_packages=(
   libgtest-dev libgmock-dev

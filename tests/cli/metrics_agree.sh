@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# cli.metrics_agree — the diagnostics' uv.utilisation and uv.overlap are the
+# cli.field.metrics_agree — the diagnostics' uv.utilisation and uv.overlap are the
 # yardstick's (../shared/eval/uvmetrics.py) on the same output: soupuv maps a
 # few corpus soups (also with --no-uv-solve, whose maps do overlap, so the
 # overlap figures compared are not all zero) and both scores must agree.
