@@ -4,8 +4,12 @@
 #include <cstdio>
 #include <cstring>
 #include <new>
+#include <regex>
+#include <set>
 #include <string>
 #include <vector>
+
+#include <nlohmann/json.hpp>
 
 #include "cli.h"
 
@@ -126,6 +130,10 @@ Usage:
       --no-refine-intersections  --no-orient  --no-share-lines  --no-chart-fix
       --no-chart-neighbours
 
+  soupuv capabilities --json
+      Prints what this build offers, for programs (the server's probe):
+      {"soupuv_version", "commands": [...], "map_flags": ["--method", ...]}.
+
   soupuv --help | --version
 
 Exit codes:
@@ -136,6 +144,26 @@ Exit codes:
   4 unsupported input    130 canceled (SIGINT or SIGTERM)
 Errors print one line "soupuv: <reason>" on stderr.
 )";
+
+// `soupuv capabilities --json`: the commands and every map flag this build
+// documents. The flags are read from the help text above, the one list of
+// them the CLI keeps (until the flags come from one table: issue 23).
+int run_capabilities(const std::vector<std::string>& args) {
+  using soupuv::cli::UsageError;
+  if (args.size() != 1 || args[0] != "--json") throw UsageError{"capabilities takes --json"};
+  const std::string help = kHelp;
+  const size_t map_at = help.find("  soupuv map "), end_at = help.find("  soupuv capabilities");
+  const std::string map_help = help.substr(map_at, end_at - map_at);
+  std::set<std::string> flags;
+  static const std::regex flag_re("--[a-z][a-z0-9-]*");
+  for (std::sregex_iterator it(map_help.begin(), map_help.end(), flag_re), e; it != e; ++it) flags.insert(it->str());
+  flags.insert("-o");
+  const nlohmann::json j = {{"soupuv_version", SOUPUV_VERSION},
+                            {"commands", {"inspect", "map", "capabilities"}},
+                            {"map_flags", flags}};
+  std::printf("%s\n", j.dump().c_str());
+  return soupuv::cli::kOk;
+}
 
 }  // namespace
 
@@ -156,6 +184,7 @@ int main(int argc, char** argv) {
     args.erase(args.begin());
     if (command == "inspect") return run_inspect(args);
     if (command == "map") return run_map(args);
+    if (command == "capabilities") return run_capabilities(args);
     throw UsageError{"unknown command '" + command + "'"};
   } catch (const UsageError& e) {
     std::fprintf(stderr, "soupuv: %s (see soupuv --help)\n", e.message.c_str());

@@ -2,7 +2,6 @@
 
 #include <atomic>
 #include <cmath>
-#include <regex>
 #include <cstdio>
 #include <unistd.h>
 
@@ -83,24 +82,26 @@ ParamError check_polylines(const std::string& name, const nlohmann::json& v) {
 }  // namespace
 
 WorkerCapabilities probe_worker(const std::string& worker_bin) {
+  // `soupuv capabilities --json`: the worker's commands and map flags, read
+  // from its stdout through a pipe, never a temp file (a read-only root file
+  // system has no /tmp, and a silent probe failure would leave every job
+  // without its flags: /readyz fails when nothing is known).
   WorkerCapabilities caps;
-  static const std::regex flag_re("--[a-z][a-z0-9-]*");
-  for (std::vector<std::string> argv : {std::vector<std::string>{worker_bin, "--help"},
-                                        std::vector<std::string>{worker_bin, "map", "--help"}}) {
-    std::string text;
-    std::atomic<bool> never{false};
-    ProcessLimits limits;
-    limits.wall_seconds = 10;
-    // Help may go to stdout or stderr: take both. stdout comes back through a
-    // pipe, never a temp file (a read-only root file system has no /tmp, and
-    // a silent probe failure would leave every job without its flags).
-    auto outcome = run_process(argv, {"PATH=/usr/bin:/bin", "LANG=C.UTF-8"}, limits, never,
-                               [&](const std::string& line) { text += line + "\n"; });
-    text += outcome.stdout_text;
-    if (text.find("inspect") != std::string::npos) caps.has_inspect = true;
-    for (std::sregex_iterator it(text.begin(), text.end(), flag_re), end; it != end; ++it)
-      caps.flags.insert(it->str());
-  }
+  std::atomic<bool> never{false};
+  ProcessLimits limits;
+  limits.wall_seconds = 10;
+  std::string text;
+  auto outcome = run_process({worker_bin, "capabilities", "--json"}, {"PATH=/usr/bin:/bin", "LANG=C.UTF-8"},
+                             limits, never, [&](const std::string& line) { text += line + "\n"; });
+  text += outcome.stdout_text;
+  const nlohmann::json j = nlohmann::json::parse(text, nullptr, /*allow_exceptions=*/false);
+  if (!j.is_object()) return caps;
+  if (j.contains("commands") && j["commands"].is_array())
+    for (const auto& c : j["commands"])
+      if (c.is_string() && c.get<std::string>() == "inspect") caps.has_inspect = true;
+  if (j.contains("map_flags") && j["map_flags"].is_array())
+    for (const auto& f : j["map_flags"])
+      if (f.is_string()) caps.flags.insert(f.get<std::string>());
   return caps;
 }
 

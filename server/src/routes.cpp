@@ -696,7 +696,7 @@ void register_routes(httplib::Server& http, ServerContext& ctx) {
   });
   http.Get("/readyz", [&ctx](const httplib::Request&, httplib::Response& res) {
     const StorageStatus disk = storage_status(ctx.data->root(), ctx.config.min_free_mb << 20);
-    // An empty probe (the worker's --help unreadable) would run every job
+    // An empty probe (the worker's capabilities --json unreadable) would run every job
     // without progress, cache or parameters: not ready, rather than silently degraded.
     nlohmann::json checks = {{"worker_binary", !ctx.worker_bin.empty()},
                              {"worker_capabilities", !ctx.caps.flags.empty()},

@@ -1,5 +1,5 @@
 // Deploy files that work (issue 21, item 6): a worker whose capabilities
-// cannot be read (its --help says nothing, e.g. the probe could not run)
+// cannot be read (its `capabilities --json` says nothing, e.g. the probe could not run)
 // makes /readyz fail instead of every job silently running without progress,
 // cache or parameters.
 #include <gtest/gtest.h>
@@ -13,7 +13,7 @@ using namespace soupuv::test;
 using nlohmann::json;
 
 TEST(Readiness, UnknownWorkerCapabilitiesAreNotReady) {
-  // A worker that prints nothing for --help: no flags are known.
+  // A worker that prints nothing for `capabilities --json`: no flags are known.
   const auto dir = fresh_dir("ready-blind");
   const auto silent = dir / "silent-worker.sh";
   std::ofstream(silent) << "#!/bin/sh\nexit 0\n";

@@ -14,6 +14,7 @@
 #            attempt on stderr
 case "$1" in
   --help) echo "usage: soupuv map IN -o OUT --diagnostics D --progress json --method M --texture-size N; soupuv inspect IN"; exit 0 ;;
+  capabilities) echo '{"commands":["inspect","map","capabilities"],"map_flags":["-o","--diagnostics","--progress","--method","--texture-size"]}'; exit 0 ;;
   inspect) echo '{"triangles":1}'; exit 0 ;;
   map) [ "$2" = "--help" ] && exit 0 ;;
   *) echo "soupuv: unknown command" >&2; exit 2 ;;
