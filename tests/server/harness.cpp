@@ -143,16 +143,23 @@ httplib::Client ServerProcess::client() const {
   return c;
 }
 
-std::string raw_exchange(int port, const std::string& request, int timeout_ms) {
+int loopback_connect(int port) {
   int fd = socket(AF_INET, SOCK_STREAM | SOCK_CLOEXEC, 0);
+  if (fd < 0) return -1;
   sockaddr_in addr{};
   addr.sin_family = AF_INET;
   addr.sin_port = htons(uint16_t(port));
   addr.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
   if (connect(fd, reinterpret_cast<sockaddr*>(&addr), sizeof addr) != 0) {
     close(fd);
-    return "";
+    return -1;
   }
+  return fd;
+}
+
+std::string raw_exchange(int port, const std::string& request, int timeout_ms) {
+  const int fd = loopback_connect(port);
+  if (fd < 0) return "";
   size_t sent = 0;
   while (sent < request.size()) {
     ssize_t n = send(fd, request.data() + sent, request.size() - sent, MSG_NOSIGNAL);

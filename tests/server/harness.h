@@ -45,6 +45,9 @@ class ServerProcess {
   std::string log_;
 };
 
+// A TCP connection to 127.0.0.1:port (close-on-exec), or -1.
+int loopback_connect(int port);
+
 // Sends `request` as is and returns everything read until the peer closes or
 // `timeout_ms` passes.
 std::string raw_exchange(int port, const std::string& request, int timeout_ms = 3000);

@@ -82,18 +82,7 @@ class RandomRequest {
   std::mt19937_64 rng_;
 };
 
-int connect_to(int port) {
-  int fd = socket(AF_INET, SOCK_STREAM | SOCK_CLOEXEC, 0);
-  sockaddr_in a{};
-  a.sin_family = AF_INET;
-  a.sin_port = htons(uint16_t(port));
-  a.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
-  if (connect(fd, reinterpret_cast<sockaddr*>(&a), sizeof a) != 0) {
-    close(fd);
-    return -1;
-  }
-  return fd;
-}
+int connect_to(int port) { return loopback_connect(port); }
 
 // Sends `req` (in random pieces with pauses when `slow`), reads the answer;
 // empty when the server closed without one (allowed: e.g. a hang-up).
