@@ -48,6 +48,9 @@ class ServerProcess {
 // A TCP connection to 127.0.0.1:port (close-on-exec), or -1.
 int loopback_connect(int port);
 
+// Everything read from fd until the peer closes or `timeout_ms` passes.
+std::string read_until_close(int fd, int timeout_ms);
+
 // Sends `request` as is and returns everything read until the peer closes or
 // `timeout_ms` passes.
 std::string raw_exchange(int port, const std::string& request, int timeout_ms = 3000);

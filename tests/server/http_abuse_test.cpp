@@ -26,20 +26,7 @@ namespace {
 
 int connect_to(int port) { return loopback_connect(port); }
 
-// Reads until the peer closes or `ms` pass.
-std::string read_all(int fd, int ms) {
-  std::string out;
-  auto until = Clock::now() + std::chrono::milliseconds(ms);
-  while (Clock::now() < until) {
-    pollfd p{fd, POLLIN, 0};
-    if (poll(&p, 1, 50) <= 0) continue;
-    char buf[4096];
-    ssize_t n = recv(fd, buf, sizeof buf, 0);
-    if (n <= 0) break;
-    out.append(buf, size_t(n));
-  }
-  return out;
-}
+std::string read_all(int fd, int ms) { return read_until_close(fd, ms); }
 
 double seconds_since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
 
