@@ -45,8 +45,16 @@ void for_each_pixel_centre(const std::array<Vec2, 3>& q, int width, int height, 
       bool inside = true;
       for (int e = 0; e < 3 && inside; ++e) {
         const Vec2 a = q[e], b = q[(e + 1) % 3];
+        // The edge function from the edge's lower endpoint, negated for the
+        // other direction: the two triangles sharing an edge compute the
+        // same value with opposite signs, so a centre exactly on the edge
+        // goes to exactly one of them (rounding in either order could give
+        // it to both).
+        const bool forward = a.x < b.x || (a.x == b.x && a.y < b.y);
+        const Vec2 s = forward ? a : b, t = forward ? b : a;
+        const double w0 = (t.x - s.x) * (cy - s.y) - (t.y - s.y) * (cx - s.x);
+        const double w = forward ? w0 : -w0;
         const double dx = b.x - a.x, dy = b.y - a.y;
-        const double w = dx * (cy - a.y) - dy * (cx - a.x);
         const bool top_left = dy < 0 || (dy == 0 && dx > 0);
         inside = w > 0 || (w == 0 && top_left);
       }
