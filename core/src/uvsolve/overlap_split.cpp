@@ -23,32 +23,38 @@ void for_each_sample(const std::array<Vec2, 3>& p, Vec2 origin, double cell, int
 // island's laps stay under kLapShare of its samples (the overlap target is
 // 1 % of the covered area).
 constexpr size_t kLapSamples = 2;
-constexpr double kLapShare = 0.002;
 
 }  // namespace
 
-size_t overlap_samples(const UvLayout& L, const std::vector<uint32_t>& tris, double cell) {
+size_t overlap_samples(const std::vector<std::array<Vec2, 3>>& triangles, double cell) {
+  if (triangles.empty()) return 0;
   Vec2 lo{INFINITY, INFINITY}, hi{-INFINITY, -INFINITY};
-  for (uint32_t t : tris)
-    for (uint32_t v : L.corner_vertex[t]) {
-      lo = {std::min(lo.x, L.uv[v].x), std::min(lo.y, L.uv[v].y)};
-      hi = {std::max(hi.x, L.uv[v].x), std::max(hi.y, L.uv[v].y)};
+  for (const auto& p : triangles)
+    for (const Vec2& q : p) {
+      lo = {std::min(lo.x, q.x), std::min(lo.y, q.y)};
+      hi = {std::max(hi.x, q.x), std::max(hi.y, q.y)};
     }
-  if (tris.empty()) return 0;
   double h = cell;
   const double cells = (hi.x - lo.x) * (hi.y - lo.y) / (h * h);
   if (cells > double(1 << 24)) h *= std::sqrt(cells / double(1 << 24));
   const int width = int(std::ceil((hi.x - lo.x) / h)) + 1, height = int(std::ceil((hi.y - lo.y) / h)) + 1;
   std::vector<uint8_t> taken(size_t(width) * height, 0);
   size_t clashes = 0;
-  for (uint32_t t : tris) {
-    const auto& cv = L.corner_vertex[t];
-    for_each_sample({L.uv[cv[0]], L.uv[cv[1]], L.uv[cv[2]]}, lo, h, width, height, [&](size_t s) {
+  for (const auto& p : triangles)
+    for_each_sample(p, lo, h, width, height, [&](size_t s) {
       clashes += taken[s];
       taken[s] = 1;
     });
-  }
   return clashes;
+}
+
+size_t overlap_samples(const UvLayout& L, const std::vector<uint32_t>& tris, double cell) {
+  std::vector<std::array<Vec2, 3>> triangles(tris.size());
+  for (size_t i = 0; i < tris.size(); ++i) {
+    const auto& cv = L.corner_vertex[tris[i]];
+    triangles[i] = {L.uv[cv[0]], L.uv[cv[1]], L.uv[cv[2]]};
+  }
+  return overlap_samples(triangles, cell);
 }
 
 OverlapSplitFigures split_overlaps(double cell, int threads, UvLayout& L) {

@@ -14,7 +14,9 @@
 // Cost  : O(triangles + sample points covered) per island.
 #pragma once
 
+#include <array>
 #include <cstddef>
+#include <vector>
 
 #include "uvsolve/uv_layout.h"
 
@@ -28,9 +30,14 @@ struct OverlapSplitFigures {
   double cell = 0;
 };
 
+// The share of an island's samples it may cover twice (a noisy scan's
+// sliver folds; the overlap target is 1 % of the covered area).
+constexpr double kLapShare = 0.002;
+
 // Sample points (the same rule, spacing `cell`) covered twice or more by
 // the triangles `tris` (counter-clockwise): 0 when they do not overlap.
 size_t overlap_samples(const UvLayout& layout, const std::vector<uint32_t>& tris, double cell);
+size_t overlap_samples(const std::vector<std::array<Vec2, 3>>& triangles, double cell);
 
 OverlapSplitFigures split_overlaps(double cell, int threads, UvLayout& layout);
 

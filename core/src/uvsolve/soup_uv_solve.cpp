@@ -7,7 +7,9 @@
 #include "uvsolve/island_solve.h"
 #include "uvsolve/overlap_split.h"
 #include "uvsolve/pack_islands.h"
+#include "uvsolve/reembed.h"
 #include "uvsolve/seam_merge.h"
+#include "uvsolve/union_merge.h"
 #include "uvsolve/untangle.h"
 #include "uvsolve/uv_mesh.h"
 
@@ -25,6 +27,16 @@ double kept_pairs(const std::vector<quality::AdjacentPair>& pairs, const detail:
     kept += L.corner_vertex[p.a][p.a_corner[0]] == L.corner_vertex[p.b][p.b_corner[0]] &&
             L.corner_vertex[p.a][p.a_corner[1]] == L.corner_vertex[p.b][p.b_corner[1]];
   return double(kept) / double(pairs.size());
+}
+
+nlohmann::json reembed_json(const detail::ReembedFigures& f) {
+  return {{"islands", f.islands},
+          {"pieces", f.pieces},
+          {"singleton_pieces", f.singleton_pieces},
+          {"split_topology", f.split_topology},
+          {"split_flip", f.split_flip},
+          {"split_stretch", f.split_stretch},
+          {"lapping_pieces", f.lapping_pieces}};
 }
 }  // namespace
 
@@ -55,6 +67,30 @@ SoupUvResult solve_soup_uvs(const Soup& soup, const quality::Weld& weld,
                    {"folded_after", uf.bad_after},
                    {"seconds", since(t_untangle)}};
 
+  // The overlap samples: finer than the final texels. The packed scale is
+  // not known yet; the square's side over the islands' total area at full
+  // use bounds it from above, so these samples are at least that fine.
+  double rest_area = 0;
+  for (size_t t = 0; t < soup.triangles.size(); ++t) rest_area += triangle_area(soup, t);
+  rest_area *= uv_per_length * uv_per_length;
+  const double cell =
+      (rest_area > 0 ? std::sqrt(rest_area) / options.texture_size : 1.0) / options.overlap_samples_per_texel;
+
+  // Islands still folded are flattened again from their own shape.
+  if (options.reembed) {
+    auto t_re = Clock::now();
+    std::vector<uint8_t> folded(layout.island_count, 0);
+    for (size_t t = 0; t < layout.corner_vertex.size(); ++t)
+      if (detail::is_folded(soup, uv_per_length, options.collapse_ratio, layout, t)) folded[layout.island[t]] = 1;
+    const detail::ReembedFigures rf = detail::reembed_islands(soup, uv_per_length, folded, cell,
+                                                              options.reembed_max_stretch,
+                                                              options.solve_iterations, options.threads, layout);
+    nlohmann::json j = reembed_json(rf);
+    j["kept_pairs"] = kept_pairs(pairs, layout);
+    j["seconds"] = since(t_re);
+    d["reembed_folds"] = j;
+  }
+
   auto t1 = Clock::now();
   const detail::FoldCutFigures fc = detail::cut_folds(soup, uv_per_length, options.collapse_ratio, layout);
   d["fold_cut"] = {{"cut_triangles", fc.cut_triangles},
@@ -76,14 +112,28 @@ SoupUvResult solve_soup_uvs(const Soup& soup, const quality::Weld& weld,
                 {"seconds", since(t2)}};
   progress.update("uv_solve", 0.7);
 
-  // The overlap samples: finer than the final texels. The packed scale is
-  // not known yet; the square's side over the islands' total area at full
-  // use bounds it from above, so these samples are at least that fine.
+  // Islands whose image laps over itself are flattened again from their
+  // own shape; the split below cuts what still laps.
   auto t3 = Clock::now();
-  double area = 0;
-  for (size_t t = 0; t < layout.corner_vertex.size(); ++t) area += 0.5 * std::abs(detail::signed_area2(layout, t));
-  const double texel_uv = area > 0 ? std::sqrt(area) / options.texture_size : 1.0;
-  const detail::OverlapSplitFigures of = detail::split_overlaps(texel_uv / options.overlap_samples_per_texel, options.threads, layout);
+  if (options.reembed) {
+    const auto islands = detail::island_triangles(layout);
+    std::vector<uint8_t> lapping(islands.size(), 0);
+#pragma omp parallel for schedule(dynamic, 1) num_threads(std::max(1, options.threads))
+    for (size_t i = 0; i < islands.size(); ++i) {
+      if (islands[i].size() < 2) continue;
+      double a = 0;
+      for (uint32_t t : islands[i]) a += 0.5 * std::abs(detail::signed_area2(layout, t));
+      lapping[i] = double(detail::overlap_samples(layout, islands[i], cell)) > detail::kLapShare * a / (cell * cell);
+    }
+    const detail::ReembedFigures rf = detail::reembed_islands(soup, uv_per_length, lapping, cell,
+                                                              options.reembed_max_stretch,
+                                                              options.solve_iterations, options.threads, layout);
+    nlohmann::json j = reembed_json(rf);
+    j["kept_pairs"] = kept_pairs(pairs, layout);
+    j["seconds"] = since(t3);
+    d["reembed_overlaps"] = j;
+  }
+  const detail::OverlapSplitFigures of = detail::split_overlaps(cell, options.threads, layout);
   d["overlap_split"] = {{"overlapping_islands", of.overlapping_islands},
                         {"pieces_added", of.pieces_added},
                         {"singleton_pieces", of.singleton_pieces},
@@ -93,10 +143,22 @@ SoupUvResult solve_soup_uvs(const Soup& soup, const quality::Weld& weld,
                         {"seconds", since(t3)}};
   progress.update("uv_solve", 0.8);
 
+  // Islands whose shapes flatten together are joined by flattening the union.
+  if (options.reembed) {
+    auto t_um = Clock::now();
+    const detail::UnionMergeFigures uf2 = detail::merge_by_reflattening(
+        soup, uv_per_length, pairs, cell, options.reembed_max_stretch,
+        options.solve_iterations, options.merge_attempts_per_island, layout);
+    d["union_merge"] = {{"attempts", uf2.attempts},
+                        {"joined", uf2.joined},
+                        {"islands", layout.island_count},
+                        {"kept_pairs", kept_pairs(pairs, layout)},
+                        {"seconds", since(t_um)}};
+  }
+
   // Seams the transfer or the split cut where a flat map can close them
   // are joined, then the joined islands solved and checked again.
   auto t_merge = Clock::now();
-  const double cell = texel_uv / options.overlap_samples_per_texel;
   const detail::SeamMergeFigures mf = detail::merge_seams(
       soup, pairs, cell, uv_per_length, options.collapse_ratio,
       options.merge_attempts_per_island * size_t(layout.island_count), options.merge_relax_max_triangles,

@@ -99,7 +99,7 @@ TEST(SoupUvSolve, ContinuousFlatMapStaysOneIsland) {
   const Solved s = solve(c, 0.01);
   expect_sound(c, s.uv);
   for (const auto& p : s.pairs) EXPECT_TRUE(continuous(s.uv, p));
-  EXPECT_EQ(s.diagnostics["pack"]["islands"], 1);
+  EXPECT_EQ(s.diagnostics["pack"]["islands"], 1) << s.diagnostics.dump();
   const quality::UvOverlap o = quality::uv_overlap(s.uv, std::vector<uint8_t>(s.uv.size(), 1));
   EXPECT_GE(o.utilisation, 0.55) << "one square island fills most of the square";
 }
@@ -173,6 +173,56 @@ TEST(SoupUvSolve, SurfacesLandingOnOnePlaceGetTheirOwnTexels) {
     EXPECT_GT(in, 0u);
     EXPECT_GE(double(kept) / double(in), 0.95) << "layer " << which;
   }
+}
+
+TEST(SoupUvSolve, BandProjectedFlatIsFlattenedFromItsShapeWithFewCuts) {
+  // A closed band (a cylinder's side, 24 cells around, 6 high) mapped by
+  // projecting it onto the plane of its axis: the front and the back land
+  // on each other and the sides collapse, as a part seen edge-on by the
+  // proxy does. A band needs one seam to lie flat; the solve must not
+  // shatter it.
+  Case c;
+  const int around = 24, high = 6;
+  const double r = around / (2 * M_PI);  // cells stay unit squares
+  auto place = [&](double u, double v) {
+    const double a = 2 * M_PI * u / around;
+    return Vec3{r * std::cos(a), v, r * std::sin(a)};
+  };
+  add_grid(c, around, high, place, [&](double u, double v) {
+    const Vec3 p = place(u, v);
+    return Vec2{0.01 * p.x, 0.01 * p.y};
+  });
+  const Solved s = solve(c, 0.01);
+  expect_sound(c, s.uv);
+  size_t kept = 0;
+  for (const auto& p : s.pairs) kept += continuous(s.uv, p);
+  // One seam cuts `high` of the band's pairs; allow a few seams.
+  EXPECT_GE(kept, s.pairs.size() - 4 * high) << kept << " of " << s.pairs.size() << " pairs kept";
+}
+
+TEST(SoupUvSolve, ScatteredPiecesOfACurvedPatchAreJoinedAgain) {
+  // A 12 x 12 patch of a sphere (about 70 degrees across) whose map is cut
+  // into blocks of 2 x 2 cells, each flat at its own place: a transfer
+  // that is discontinuous everywhere. The patch flattens as one piece, so
+  // the solve must join the blocks back together.
+  Case c;
+  const int n = 12;
+  const double radius = 10;
+  auto sphere = [&](double u, double v) {
+    const double a = (u - n / 2.0) / radius, b = (v - n / 2.0) / radius;
+    return Vec3{radius * std::sin(a) * std::cos(b), radius * std::sin(b), radius * std::cos(a) * std::cos(b)};
+  };
+  for (int j = 0; j < n; ++j)
+    for (int i = 0; i < n; ++i) {
+      const double du = 3.0 * (i / 2), dv = 3.0 * (j / 2);  // blocks one cell apart in UV
+      add_grid(c, 1, [&](double u, double v) { return sphere(i + u, j + v); },
+               [&](double u, double v) { return Vec2{0.01 * (i + u + du), 0.01 * (j + v + dv)}; });
+    }
+  const Solved s = solve(c, 0.01);
+  expect_sound(c, s.uv);
+  size_t kept = 0;
+  for (const auto& p : s.pairs) kept += continuous(s.uv, p);
+  EXPECT_GE(double(kept) / double(s.pairs.size()), 0.9) << kept << " of " << s.pairs.size() << " pairs kept";
 }
 
 TEST(SoupUvSolve, ManyIslandsArePackedWithoutOverlapAndUseTheSquare) {

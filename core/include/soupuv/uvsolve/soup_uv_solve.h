@@ -13,15 +13,20 @@
 //            discontinuities).
 //         2. Untangle (untangle.h): islands turned positive; an island with
 //            folds relaxed as rigidly as possible, kept if it folds less.
-//            Fold cut (fold_cut.h): flipped or collapsed triangles cut out
-//            and unfolded back on by their shape.
+//            Islands still folded are flattened again from their own shape
+//            (reembed.h: LSCM then SLIM, halved where that fails). Fold cut
+//            (fold_cut.h): what still flips or collapses is cut out and
+//            unfolded back on by its shape.
 //         3. Solve (island_solve.h): SLIM on the symmetric Dirichlet energy,
 //            every island at once, cuts fixed.
-//         4. Overlap split (overlap_split.h): an island whose image laps over
-//            itself, or where different surfaces landed on one place, is
-//            split into pieces that do not.
-//         5. Seam merge (seam_merge.h): islands joined across seams where
-//            the joined map neither folds nor overlaps; solved and split
+//         4. Overlap: an island whose image laps over itself, or where
+//            different surfaces landed on one place, is flattened again from
+//            its own shape (reembed.h); the overlap split (overlap_split.h)
+//            cuts what still laps into pieces that do not.
+//         5. Joins: islands whose union flattens from its own shape without
+//            flips, laps or stretch beyond the budget become one
+//            (union_merge.h, longest shared seams first); then rigid joins
+//            across the remaining seams (seam_merge.h), solved and split
 //            again.
 //         6. Pack (pack_islands.h): the bitmap packer at one density.
 // Cost  : O(n log n) besides the solve's sparse factorisations.
@@ -53,6 +58,12 @@ struct SoupUvOptions {
   size_t merge_relax_max_triangles = 20000;
   // Overlap samples per texel side (2: half-texel spacing).
   double overlap_samples_per_texel = 2;
+  // Islands the transfer folded or lapped are flattened again from their
+  // own shape (reembed.h) and islands are joined by flattening their union
+  // (union_merge.h); a piece or union above this L2 stretch is split or
+  // refused. Off: the step list without them (for comparison).
+  bool reembed = true;
+  double reembed_max_stretch = 1.15;
   int threads = 1;
 };
 

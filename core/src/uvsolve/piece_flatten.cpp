@@ -1,0 +1,189 @@
+#include "uvsolve/piece_flatten.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "atlas/parameterize.h"
+#include "transfer/slim.h"
+#include "uvsolve/overlap_split.h"
+
+namespace soupuv::uvsolve::detail {
+
+namespace {
+uint32_t find(std::vector<uint32_t>& parent, uint32_t x) {
+  while (parent[x] != x) x = parent[x] = parent[parent[x]];
+  return x;
+}
+}  // namespace
+
+PieceMesh piece_mesh(const Soup& soup, double uv_per_length, const std::vector<uint32_t>& tris, const UvLayout& L,
+                     const std::vector<uint32_t>* vertex_of) {
+  PieceMesh m;
+  const size_t nf = tris.size();
+  struct HalfEdge {
+    uint64_t key;  // undirected: smaller layout vertex first
+    uint32_t face;
+    uint8_t k;     // from corner k to k + 1
+    bool forward;  // smaller vertex is corner k
+  };
+  std::vector<HalfEdge> half;
+  half.reserve(3 * nf);
+  for (uint32_t j = 0; j < nf; ++j)
+    for (uint8_t k = 0; k < 3; ++k) {
+      uint32_t a = L.corner_vertex[tris[j]][k], b = L.corner_vertex[tris[j]][(k + 1) % 3];
+      if (vertex_of) a = (*vertex_of)[a], b = (*vertex_of)[b];
+      half.push_back({(uint64_t(std::min(a, b)) << 32) | std::max(a, b), j, k, a < b});
+    }
+  std::sort(half.begin(), half.end(), [](const HalfEdge& x, const HalfEdge& y) {
+    return x.key < y.key || (x.key == y.key && x.face < y.face);
+  });
+  std::vector<uint32_t> parent(3 * nf);
+  for (uint32_t i = 0; i < parent.size(); ++i) parent[i] = i;
+  m.neighbours.assign(nf, {});
+  for (size_t i = 0; i < half.size();) {
+    size_t e = i;
+    while (e < half.size() && half[e].key == half[i].key) ++e;
+    if (e - i == 2 && half[i].forward != half[i + 1].forward && half[i].face != half[i + 1].face) {
+      const HalfEdge &x = half[i], &y = half[i + 1];
+      // x runs p -> q, y runs q -> p: x's start meets y's end and back.
+      const uint32_t x0 = 3 * x.face + x.k, x1 = 3 * x.face + (x.k + 1) % 3;
+      const uint32_t y0 = 3 * y.face + y.k, y1 = 3 * y.face + (y.k + 1) % 3;
+      parent[find(parent, x0)] = find(parent, y1);
+      parent[find(parent, x1)] = find(parent, y0);
+      m.neighbours[x.face].push_back(y.face);
+      m.neighbours[y.face].push_back(x.face);
+    }
+    i = e;
+  }
+  std::vector<uint32_t> local(3 * nf, UINT32_MAX);
+  uint32_t nv = 0;
+  m.triangles.resize(nf);
+  for (uint32_t c = 0; c < 3 * nf; ++c) {
+    const uint32_t r = find(parent, c);
+    if (local[r] == UINT32_MAX) local[r] = nv++;
+    m.triangles[c / 3][c % 3] = local[r];
+  }
+  atlas::ChartMesh& ch = m.chart;
+  ch.faces.assign(tris.begin(), tris.end());
+  ch.tri.resize(nf);
+  ch.vertex_global.assign(nv, -1);
+  ch.position.assign(nv, Vec3{0, 0, 0});
+  std::vector<int> uses(nv, 0);
+  m.rest.resize(nf);
+  for (uint32_t j = 0; j < nf; ++j) {
+    for (int k = 0; k < 3; ++k) {
+      const uint32_t v = m.triangles[j][k];
+      ch.tri[j][k] = int(v);
+      ch.position[v] = ch.position[v] + soup.corner(tris[j], k);
+      ++uses[v];
+    }
+    m.rest[j] = transfer::detail::rest_triangle(soup.corner(tris[j], 0), soup.corner(tris[j], 1),
+                                                soup.corner(tris[j], 2), uv_per_length, 1.0);
+  }
+  for (uint32_t v = 0; v < nv; ++v) ch.position[v] = (1.0 / std::max(1, uses[v])) * ch.position[v];
+  // Components through joined edges.
+  m.component.assign(nf, UINT32_MAX);
+  for (uint32_t s = 0; s < nf; ++s) {
+    if (m.component[s] != UINT32_MAX) continue;
+    std::vector<uint32_t> stack{s};
+    m.component[s] = m.components;
+    while (!stack.empty()) {
+      const uint32_t i = stack.back();
+      stack.pop_back();
+      for (uint32_t j : m.neighbours[i])
+        if (m.component[j] == UINT32_MAX) m.component[j] = m.components, stack.push_back(j);
+    }
+    ++m.components;
+  }
+  // Boundary loops (each boundary vertex has one outgoing boundary
+  // half-edge, the corner joins above make sure of it), Euler characteristic.
+  std::vector<int64_t> next(nv, -1);
+  size_t boundary_half_edges = 0;
+  for (size_t i = 0; i < half.size();) {
+    size_t e = i;
+    while (e < half.size() && half[e].key == half[i].key) ++e;
+    const bool interior = e - i == 2 && half[i].forward != half[i + 1].forward && half[i].face != half[i + 1].face;
+    if (!interior)
+      for (size_t h = i; h < e; ++h) {
+        const uint32_t a = m.triangles[half[h].face][half[h].k], b = m.triangles[half[h].face][(half[h].k + 1) % 3];
+        ++boundary_half_edges;
+        if (next[a] >= 0) next[a] = -2;  // two boundary edges leave a: not a disk-like vertex
+        else if (next[a] == -1) next[a] = b;
+      }
+    i = e;
+  }
+  const size_t edges = (3 * nf + boundary_half_edges) / 2;
+  ch.euler = int(nv) - int(edges) + int(nf);
+  ch.boundary_loops = 0;
+  ch.boundary.clear();
+  std::vector<uint8_t> seen(nv, 0);
+  for (uint32_t v = 0; v < nv; ++v) {
+    if (next[v] == -2) {
+      ch.boundary_loops = -1;
+      break;
+    }
+    if (next[v] < 0 || seen[v]) continue;
+    std::vector<int> loop;
+    int64_t w = v;
+    for (; w >= 0 && !seen[w]; w = next[w]) {
+      seen[w] = 1;
+      loop.push_back(int(w));
+    }
+    if (w < 0) {
+      ch.boundary_loops = -1;
+      break;
+    }
+    ++ch.boundary_loops;
+    if (loop.size() > ch.boundary.size()) ch.boundary = std::move(loop);
+  }
+  return m;
+}
+
+bool flattenable(const atlas::ChartMesh& c) { return c.boundary_loops >= 1 && c.euler + c.boundary_loops == 2; }
+
+Outcome flatten(const PieceMesh& m, const std::vector<uint32_t>& tris, double cell, double max_stretch,
+                int solve_iterations, Piece& out) {
+  const atlas::ChartMesh& c = m.chart;
+  if (!flattenable(c)) return Outcome::topology;
+  std::vector<Vec2> uv = atlas::lscm(c);
+  if (uv.empty()) return Outcome::flip;
+  // LSCM's orientation is free: mirror to the soup's, then match the rest area.
+  double signed_area = 0, rest_area = 0;
+  for (size_t j = 0; j < m.triangles.size(); ++j) {
+    const auto& t = m.triangles[j];
+    signed_area += 0.5 * cross(uv[t[1]] - uv[t[0]], uv[t[2]] - uv[t[0]]);
+    rest_area += m.rest[j].area;
+  }
+  if (!(std::abs(signed_area) > 0) || !(rest_area > 0)) return Outcome::flip;
+  const double s = std::sqrt(rest_area / std::abs(signed_area));
+  for (Vec2& p : uv) p = {(signed_area < 0 ? -s : s) * p.x, s * p.y};
+  const std::vector<uint8_t> fixed(uv.size(), 0);
+  transfer::detail::SlimOptions so;
+  so.max_iterations = solve_iterations;
+  if (!transfer::detail::slim_relax(m.triangles, m.rest, fixed, uv, so).started) {
+    // A conformal map of a noisy piece can fold a sliver; ARAP from it
+    // often opens the fold (its energy is finite on flipped triangles).
+    uv = atlas::arap(c, std::move(uv), 10);
+    if (uv.empty() || !transfer::detail::slim_relax(m.triangles, m.rest, fixed, uv, so).started)
+      return Outcome::flip;
+  }
+  if (atlas::chart_stretch_l2(c, uv) > max_stretch) return Outcome::stretch;
+  std::vector<std::array<Vec2, 3>> corners(tris.size());
+  double area = 0;
+  for (size_t j = 0; j < tris.size(); ++j) {
+    for (int k = 0; k < 3; ++k) corners[j][k] = uv[m.triangles[j][k]];
+    area += 0.5 * std::abs(cross(corners[j][1] - corners[j][0], corners[j][2] - corners[j][0]));
+  }
+  if (double(overlap_samples(corners, cell)) > kLapShare * area / (cell * cell)) {
+    out.tris = tris;
+    out.corner = m.triangles;
+    out.uv = std::move(uv);
+    return Outcome::overlap;
+  }
+  out.tris = tris;
+  out.corner = m.triangles;
+  out.uv = std::move(uv);
+  return Outcome::kept;
+}
+
+}  // namespace soupuv::uvsolve::detail

@@ -1,0 +1,66 @@
+// One piece of a layout flattened from its own 3D shape (private to the UV
+// solve; reembed.h and union_merge.h use it).
+//
+// Input : the soup, the rest scale (UV units per 3D length), the piece's
+//         triangles, the layout (its corner vertices give the connectivity;
+//         vertex_of, when given, maps layout vertices first, e.g. to join
+//         two islands along a seam), the overlap sample spacing, a stretch
+//         budget and SLIM's iteration count.
+// Output: piece_mesh: the piece as a mesh of its own. Two triangles are
+//         joined across an edge only when exactly two of the piece's
+//         triangles use it, in opposite directions (an oriented manifold
+//         edge); every other use is a boundary, and corners are one vertex
+//         only when joined through such edges (a vertex where the piece
+//         touches itself gets one copy per fan). A wrong weld (a bolt glued
+//         to the plate it passes through) or a non-manifold joint so
+//         becomes a cut, not a reason to give up.
+//         flatten: for a piece that is one edge-connected, oriented
+//         manifold of genus 0 with a boundary, LSCM (Lévy et al. 2002)
+//         turned to the soup's orientation and scaled to the rest area, then
+//         SLIM on the symmetric Dirichlet energy (from ARAP when LSCM folds
+//         a sliver); kept when no triangle flips, the L2 stretch is within
+//         the budget and at most kLapShare of its samples are covered
+//         twice. On `overlap` the flattened piece is returned too.
+// Cost  : one sparse LSCM factorisation and SLIM's per piece.
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <vector>
+
+#include "atlas/chart_mesh.h"
+#include "soupuv/soup.h"
+#include "transfer/sym_dirichlet.h"
+#include "uvsolve/uv_layout.h"
+
+namespace soupuv::uvsolve::detail {
+
+enum class Outcome { kept, parts, topology, flip, stretch, overlap };
+
+// One finished piece: its triangles, each corner's vertex and the vertices' UVs.
+struct Piece {
+  std::vector<uint32_t> tris;
+  std::vector<std::array<uint32_t, 3>> corner;
+  std::vector<Vec2> uv;
+};
+
+// A piece as a mesh of its own (joins: see above).
+struct PieceMesh {
+  atlas::ChartMesh chart;                                  // positions: mean of the joined soup corners
+  std::vector<std::array<uint32_t, 3>> triangles;          // local vertices
+  std::vector<transfer::detail::RestTriangle> rest;
+  std::vector<std::vector<uint32_t>> neighbours;           // across joined edges
+  std::vector<uint32_t> component;                         // edge-connected parts
+  uint32_t components = 0;
+};
+
+PieceMesh piece_mesh(const Soup& soup, double uv_per_length, const std::vector<uint32_t>& tris, const UvLayout& L,
+                     const std::vector<uint32_t>* vertex_of = nullptr);
+
+// Genus 0 with at least one boundary loop: LSCM can flatten it.
+bool flattenable(const atlas::ChartMesh& chart);
+
+Outcome flatten(const PieceMesh& mesh, const std::vector<uint32_t>& tris, double cell, double max_stretch,
+                int solve_iterations, Piece& out);
+
+}  // namespace soupuv::uvsolve::detail

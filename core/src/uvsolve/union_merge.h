@@ -1,0 +1,38 @@
+// Joins islands by flattening their union anew (private to the UV solve).
+//
+// Input : the soup, the rest scale (UV units per 3D length), the weld's
+//         adjacent pairs (quality::edge_adjacency), the overlap sample
+//         spacing (overlap_split.h), the stretch budget and SLIM iterations
+//         of piece_flatten.h, attempts per island, and a layout.
+// Output: for each two islands sharing welded edges (the longest shared
+//         seam first, each island in at most attempts_per_island tries),
+//         the union with its seam closed (the shared corners one vertex) is
+//         flattened from its own shape (piece_flatten.h); when that is kept
+//         (no flip, within the stretch budget, no lap) the two become one
+//         island with the new UVs.
+// Why   : the rigid join (seam_merge.h) can only close a seam where the two
+//         islands' existing maps already fit; most seams the transfer, the
+//         folds and the overlaps cut lie between islands whose shapes would
+//         flatten together but whose current maps do not.
+// Cost  : per attempt one flattening of the union.
+#pragma once
+
+#include <cstddef>
+#include <vector>
+
+#include "soupuv/quality/weld.h"
+#include "uvsolve/uv_layout.h"
+
+namespace soupuv::uvsolve::detail {
+
+struct UnionMergeFigures {
+  size_t attempts = 0;
+  size_t joined = 0;
+};
+
+UnionMergeFigures merge_by_reflattening(const Soup& soup, double uv_per_length,
+                                        const std::vector<quality::AdjacentPair>& pairs, double cell,
+                                        double max_stretch, int solve_iterations, size_t attempts_per_island,
+                                        UvLayout& layout);
+
+}  // namespace soupuv::uvsolve::detail
