@@ -11,6 +11,10 @@
 namespace soupuv::uvsolve::detail {
 namespace {
 
+// Islands the bitmap packer places one by one when there are many; the
+// rest go in rows first (docs/tuning.md: 512 against 128 and 1,024).
+constexpr size_t kPackedAlone = 512;
+
 // What the bitmap packer moves as one piece: one island, or a row-packed
 // group of small ones (local vertices, triangles, boundary edges).
 struct Unit {
@@ -78,20 +82,20 @@ PackFigures pack_islands(const UvLayout& L, int texture_size, double padding_px,
   // kept between grouped islands, in UV units, holds the padding at least.
   const double max_scale = total_area > 0 ? texture_size / std::sqrt(total_area) : 1;
   const double gap = (std::ceil(padding_px) + 1) / max_scale;
-  // When there are many islands, all but the 128 largest (each costs the
+  // When there are many islands, all but the 512 largest (each costs the
   // packer a rasterisation per turn and a search per packing, whatever its
   // size) are grouped into rows about 1/8 of the square's side wide before
   // packing; an island longer than half a row stays alone.
   const double row_width = std::sqrt(total_area) / 8;
   std::vector<uint8_t> small(k, 0);
-  if (k > 256) {
+  if (k > 2 * kPackedAlone) {
     std::vector<double> area(k, 0);
     for (size_t i = 0; i < k; ++i)
       for (uint32_t t : islands[i]) area[i] += std::abs(signed_area2(L, t));
     std::vector<uint32_t> by_area(k);
     std::iota(by_area.begin(), by_area.end(), 0u);
     std::stable_sort(by_area.begin(), by_area.end(), [&](uint32_t a, uint32_t b) { return area[a] > area[b]; });
-    for (size_t j = 128; j < k; ++j) {
+    for (size_t j = kPackedAlone; j < k; ++j) {
       const uint32_t i = by_area[j];
       small[i] = std::max(hi[i].x - lo[i].x, hi[i].y - lo[i].y) < 0.5 * row_width;
     }
