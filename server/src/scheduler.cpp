@@ -10,6 +10,7 @@
 
 #include "soupuv/server/log.h"
 #include "soupuv/server/sandbox.h"
+#include "soupuv/server/storage.h"
 #include "soupuv/server/worker_process.h"
 
 namespace soupuv::server {
@@ -349,6 +350,13 @@ void Scheduler::claim_loop(int slot) {
     }
     try {
       run_leased(job, lease);
+    } catch (const StorageUnavailable& e) {
+      // The database went away mid-attempt (its input or results could not
+      // be moved): not the job's fault. Give it back for another attempt;
+      // if even that cannot be written, its lease expires and the reaper
+      // does it (both bounded by --max-attempts).
+      log::warn("job attempt interrupted by the database; released", {{"job", job.id}, {"error", e.what()}});
+      store_write("requeue", [&] { shared_->release(lease); });
     } catch (const std::exception& e) {
       log::error("job supervision failed", {{"job", job.id}, {"error", e.what()}});
       bool done = false;
