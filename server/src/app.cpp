@@ -145,8 +145,10 @@ void App::open_database() {
   ctx_.node_id = (h.empty() ? "node" : h) + "-" + std::to_string(getpid()) + "-" + new_job_id().substr(1, 6);
   // Workers write, HTTP threads read: enough connections that neither waits
   // long for the other, few enough that 10 nodes fit PostgreSQL's default
-  // max_connections of 100 (each node: workers + 6 + 3 + the listener).
+  // max_connections of 100 (each node: workers + 6, 2 for heartbeats and
+  // progress, 3 for blobs, 1 listener).
   ctx_.pool = std::make_unique<PgPool>(c.database_url, c.workers + 6);
+  ctx_.advisory_pool = std::make_unique<PgPool>(c.database_url, 2, kAdvisoryWrites);
   ctx_.blob_pool = std::make_unique<PgPool>(c.database_url, 3);
   // Nodes may start before the database accepts connections (compose,
   // Kubernetes): wait up to a minute for it, then give up with the reason.
@@ -163,7 +165,7 @@ void App::open_database() {
       std::this_thread::sleep_for(std::chrono::seconds(1));
     }
   }
-  auto pg = std::make_unique<PgJobStore>(*ctx_.pool);
+  auto pg = std::make_unique<PgJobStore>(*ctx_.pool, ctx_.advisory_pool.get());
   ctx_.queue = pg.get();
   ctx_.store = std::move(pg);
   ctx_.blobs = open_pg_blob_store(*ctx_.blob_pool);

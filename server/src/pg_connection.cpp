@@ -33,7 +33,8 @@ PgParam pg_num(double v) {
 
 PgParam pg_int(int64_t v) { return PgParam(std::to_string(v)); }
 
-PgConnection::PgConnection(std::string url) : url_(std::move(url)) {}
+PgConnection::PgConnection(std::string url, std::string session_sql)
+    : url_(std::move(url)), session_sql_(std::move(session_sql)) {}
 
 PgConnection::~PgConnection() {
   if (conn_) PQfinish(conn_);
@@ -42,6 +43,7 @@ PgConnection::~PgConnection() {
 void PgConnection::reset() {
   if (conn_) PQfinish(conn_);
   conn_ = nullptr;
+  prepared_.clear();
 }
 
 PGconn* PgConnection::raw() {
@@ -58,6 +60,7 @@ PGconn* PgConnection::raw() {
   // session time zone never matters; statements are short, so a stuck one
   // (a lock held by a dead transaction) fails instead of holding a thread.
   PQclear(PQexec(conn_, "SET statement_timeout = '30s'; SET lock_timeout = '10s'; SET client_min_messages = warning"));
+  if (!session_sql_.empty()) PQclear(PQexec(conn_, session_sql_.c_str()));
   return conn_;
 }
 
@@ -70,8 +73,20 @@ PgResult PgConnection::run(const std::string& sql, const std::vector<PgParam>& p
     lengths[i] = params[i].value ? int(params[i].value->size()) : 0;
     formats[i] = params[i].binary ? 1 : 0;
   }
-  PgResult r(PQexecParams(c, sql.c_str(), int(params.size()), nullptr, values.data(), lengths.data(),
-                          formats.data(), binary_result ? 1 : 0));
+  PgResult r;
+  auto it = prepared_.find(sql);
+  if (it == prepared_.end() && sql != "BEGIN" && sql != "COMMIT") {
+    const std::string name = "s" + std::to_string(prepared_.size());
+    PgResult p(PQprepare(c, name.c_str(), sql.c_str(), int(params.size()), nullptr));
+    if (p.get() && PQresultStatus(p.get()) == PGRES_COMMAND_OK) it = prepared_.emplace(sql, name).first;
+    else r = std::move(p);  // the same error the statement would give: reported below
+  }
+  if (it != prepared_.end())
+    r = PgResult(PQexecPrepared(c, it->second.c_str(), int(params.size()), values.data(), lengths.data(),
+                                formats.data(), binary_result ? 1 : 0));
+  else if (!r.get())
+    r = PgResult(PQexecParams(c, sql.c_str(), int(params.size()), nullptr, values.data(), lengths.data(),
+                              formats.data(), binary_result ? 1 : 0));
   const auto status = r.get() ? PQresultStatus(r.get()) : PGRES_FATAL_ERROR;
   if (status == PGRES_COMMAND_OK || status == PGRES_TUPLES_OK) return r;
   std::string msg = r.get() ? PQresultErrorMessage(r.get()) : PQerrorMessage(c);
@@ -116,8 +131,8 @@ void PgConnection::transaction(const std::function<void(PgConnection&)>& body) {
   }
 }
 
-PgPool::PgPool(std::string url, int size) : url_(std::move(url)) {
-  for (int i = 0; i < std::max(1, size); ++i) idle_.push_back(std::make_unique<PgConnection>(url_));
+PgPool::PgPool(std::string url, int size, const std::string& session_sql) : url_(std::move(url)) {
+  for (int i = 0; i < std::max(1, size); ++i) idle_.push_back(std::make_unique<PgConnection>(url_, session_sql));
 }
 
 PgPool::Lease PgPool::take() {

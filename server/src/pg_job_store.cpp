@@ -280,7 +280,7 @@ std::vector<HeartbeatAnswer> PgJobStore::heartbeat(const std::vector<Lease>& lea
     owners.push_back(l.owner);
     attempts.push_back(std::to_string(l.attempt));
   }
-  auto c = pool_.take();
+  auto c = advisory_.take();
   auto r = c->exec(
       "UPDATE soupuv_jobs j SET lease_until = now() + make_interval(secs => $4)"
       " FROM unnest($1::text[], $2::text[], $3::int[]) AS l(id, owner, attempt)"
@@ -298,7 +298,7 @@ std::vector<HeartbeatAnswer> PgJobStore::heartbeat(const std::vector<Lease>& lea
 
 bool PgJobStore::progress(const Lease& lease, const std::string& stage, double fraction,
                           const nlohmann::json& stage_seconds) {
-  auto c = pool_.take();
+  auto c = advisory_.take();
   return c->exec(std::string("UPDATE soupuv_jobs SET stage = $4, fraction = $5, stage_seconds = $6") + kOwned,
                  {lease.id, lease.owner, pg_int(lease.attempt), stage, pg_num(fraction), stage_seconds.dump()})
              .affected() == 1;

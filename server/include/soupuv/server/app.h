@@ -41,7 +41,7 @@ struct ServerContext {
   // writes) and of the blob store (uploads, downloads) apart, so a large
   // transfer never makes a status poll wait for a connection. Declared before
   // the stores, destroyed after them.
-  std::unique_ptr<PgPool> pool, blob_pool;
+  std::unique_ptr<PgPool> pool, advisory_pool, blob_pool;
   std::unique_ptr<JobStore> store;
   JobQueue* queue = nullptr;  // the store's shared queue; nullptr: embedded
   std::unique_ptr<BlobStore> blobs;  // inputs and results

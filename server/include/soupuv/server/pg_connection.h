@@ -13,6 +13,7 @@
 #include <condition_variable>
 #include <cstdint>
 #include <functional>
+#include <map>
 #include <memory>
 #include <mutex>
 #include <optional>
@@ -65,7 +66,8 @@ PgParam pg_int(int64_t v);
 
 class PgConnection {
  public:
-  explicit PgConnection(std::string url);  // connects lazily
+  // `session_sql` runs on every new connection (e.g. SET synchronous_commit).
+  explicit PgConnection(std::string url, std::string session_sql = "");  // connects lazily
   ~PgConnection();
   PgConnection(const PgConnection&) = delete;
   PgConnection& operator=(const PgConnection&) = delete;
@@ -82,8 +84,11 @@ class PgConnection {
 
  private:
   PgResult run(const std::string& sql, const std::vector<PgParam>& params, bool binary_result);
-  std::string url_;
+  std::string url_, session_sql_;
   PGconn* conn_ = nullptr;
+  // Statements prepared on this connection (SQL -> name): the server parses
+  // and plans each once per connection, not once per call.
+  std::map<std::string, std::string> prepared_;
   bool in_transaction_ = false;
 };
 
@@ -100,7 +105,7 @@ class PgError : public std::runtime_error {
 // plus the workers that write (PgJobStore's caller chooses).
 class PgPool {
  public:
-  PgPool(std::string url, int size);
+  PgPool(std::string url, int size, const std::string& session_sql = "");
   class Lease {
    public:
     Lease(PgPool& pool, std::unique_ptr<PgConnection> c) : pool_(pool), c_(std::move(c)) {}
