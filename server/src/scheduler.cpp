@@ -647,7 +647,11 @@ Scheduler::Attempt Scheduler::attempt(const Job& job, std::atomic<bool>& cancel,
       stage_started = now;
       last_write = 0;  // a new stage is always worth recording
     }
-    if (now - last_write >= 0.2) {  // progress is chatty; the store needs ~5 Hz at most
+    // Progress is chatty; the store needs ~5 Hz at most. A shared database
+    // takes every worker's lines: 1 Hz there, the rate clients poll at
+    // (Retry-After: 1 while running), so a fleet's progress stays a small
+    // fraction of what the queue can write (server/README.md, Scale-out).
+    if (now - last_write >= (shared_ ? 1.0 : 0.2)) {
       last_write = now;
       // Progress is advisory: a failed write must not stop the job.
       try {
