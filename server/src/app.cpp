@@ -135,6 +135,17 @@ App::~App() { stop(); }
 
 void App::open_database() {
   const Config& c = ctx_.config;
+  // A malformed URL is the operator's typo, not an outage: refuse it now
+  // instead of waiting a minute for a database that cannot exist.
+  char* parse_error = nullptr;
+  PQconninfoOption* parsed = PQconninfoParse(c.database_url.c_str(), &parse_error);
+  if (!parsed) {
+    std::string why = parse_error ? parse_error : "out of memory";
+    PQfreemem(parse_error);
+    while (!why.empty() && why.back() == '\n') why.pop_back();
+    throw std::runtime_error("--database-url " + redact_database_url(c.database_url) + ": " + why);
+  }
+  PQconninfoFree(parsed);
   char host[256] = {};
   gethostname(host, sizeof host - 1);
   std::string h;
