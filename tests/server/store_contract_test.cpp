@@ -339,18 +339,20 @@ TEST(SharedQueue, HeartbeatKeepsLeaseAndCarriesCancel) {
   Node a(url), b(url);
   Job j = new_job("h");
   a.store.submit(j, 10);
-  auto c = a.store.claim("a/0", 1);
+  // 4 s of heartbeats every 0.5 s on a 3 s lease: it outlives its first
+  // term, with 2.5 s of slack per beat for a loaded machine.
+  auto c = a.store.claim("a/0", 3);
   ASSERT_TRUE(c);
-  for (int i = 0; i < 4; ++i) {  // 2 s of heartbeats on a 1 s lease
+  for (int i = 0; i < 8; ++i) {
     std::this_thread::sleep_for(std::chrono::milliseconds(500));
-    auto hb = a.store.heartbeat({c->second}, 1);
+    auto hb = a.store.heartbeat({c->second}, 3);
     ASSERT_TRUE(hb[0].held);
     EXPECT_FALSE(hb[0].cancel_requested);
     EXPECT_TRUE(b.store.reap(3).requeued.empty());
   }
   b.store.request_cancel(j.id);  // from another node
   EXPECT_FALSE(b.store.cancel_queued(j.id));  // it is running, not queued
-  auto hb = a.store.heartbeat({c->second}, 1);
+  auto hb = a.store.heartbeat({c->second}, 3);
   EXPECT_TRUE(hb[0].held);
   EXPECT_TRUE(hb[0].cancel_requested);
   // A queued job is canceled at once.
