@@ -10,16 +10,20 @@ build_packages=(
   build-essential cmake ninja-build ccache pkg-config git
   libcpp-httplib-dev nlohmann-json3-dev libtinygltf-dev libstb-dev libdraco-dev
   libeigen3-dev libcgal-dev libgmp-dev libmpfr-dev libboost-dev
-  libspdlog-dev libfmt-dev libsqlite3-dev libssl-dev
+  libspdlog-dev libfmt-dev libsqlite3-dev libssl-dev libpq-dev
 )
 # Tests only: GoogleTest, clang + libFuzzer and OpenMP for it (fuzz target),
 # chromium (browser test), nginx (reverse-proxy test), curl, python3-yaml
 # (deploy-file checks), python3-numpy + python3-scipy (cli.field.metrics_agree runs
-# ../shared/eval/uvmetrics.py).
+# ../shared/eval/uvmetrics.py), postgresql (the PostgreSQL store's contract
+# tests, the cluster test and `soupuv-bench store` start a server of their own
+# in a temp directory with its initdb + pg_ctl; the package's cluster is unused).
+# libpq-dev above is the client library the server links for --database-url.
 test_packages=(
   libgtest-dev libgmock-dev
   clang libclang-rt-14-dev libomp-dev
   chromium nginx-light curl python3-yaml python3-numpy python3-scipy
+  postgresql
 )
 packages=("${build_packages[@]}")
 [ "${SOUPUV_DEPS:-all}" = build ] || packages+=("${test_packages[@]}")

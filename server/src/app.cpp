@@ -8,6 +8,8 @@
 
 #include "soupuv/server/cache_prune.h"
 #include "soupuv/server/log.h"
+#include "soupuv/server/pg_job_store.h"
+#include "soupuv/server/pg_schema.h"
 #include "soupuv/server/problem.h"
 #include "soupuv/server/sandbox.h"
 #include "soupuv/server/storage.h"
@@ -65,7 +67,12 @@ App::App(Config config) {
   ctx_.config = std::move(config);
   const Config& c = ctx_.config;
   ctx_.data = std::make_unique<DataDir>(fs::absolute(c.data_dir));
-  ctx_.store = with_memory_snapshot(open_sqlite_job_store(ctx_.data->database().string()));
+  if (c.database_url.empty()) {
+    ctx_.store = with_memory_snapshot(open_sqlite_job_store(ctx_.data->database().string()));
+    ctx_.blobs = open_file_blob_store(*ctx_.data);
+  } else {
+    open_database();
+  }
   if (!c.tokens_file.empty()) ctx_.tokens.set(TokenSet::load(c.tokens_file));
   if (c.worker_sandbox == "landlock" && landlock_abi() == 0)
     throw std::runtime_error("--worker-sandbox landlock: this kernel has no Landlock (Linux >= 5.13 with landlock "
@@ -90,7 +97,7 @@ App::App(Config config) {
     }
 
   ctx_.scheduler = std::make_unique<Scheduler>(ctx_.config, ctx_.worker_bin, ctx_.caps, *ctx_.store,
-                                               *ctx_.data, ctx_.metrics);
+                                               *ctx_.data, ctx_.metrics, *ctx_.blobs, ctx_.queue, ctx_.node_id);
   // Hardening: read/write timeouts for bodies and answers (heads are the
   // connection gate's, below), a body cap in httplib itself as a second line
   // behind the Content-Length guard.
@@ -126,6 +133,56 @@ App::App(Config config) {
 
 App::~App() { stop(); }
 
+void App::open_database() {
+  const Config& c = ctx_.config;
+  // A malformed URL is the operator's typo, not an outage: refuse it now
+  // instead of waiting a minute for a database that cannot exist.
+  char* parse_error = nullptr;
+  PQconninfoOption* parsed = PQconninfoParse(c.database_url.c_str(), &parse_error);
+  if (!parsed) {
+    std::string why = parse_error ? parse_error : "out of memory";
+    PQfreemem(parse_error);
+    while (!why.empty() && why.back() == '\n') why.pop_back();
+    throw std::runtime_error("--database-url " + redact_database_url(c.database_url) + ": " + why);
+  }
+  PQconninfoFree(parsed);
+  char host[256] = {};
+  gethostname(host, sizeof host - 1);
+  std::string h;
+  for (char ch : std::string(host).substr(0, 64))
+    h += (std::isalnum(static_cast<unsigned char>(ch)) || ch == '-' || ch == '.') ? ch : '_';
+  // Unique per process start (a restarted node must not pass for the old
+  // one, whose leases are left to expire): host, pid and a random tag.
+  ctx_.node_id = (h.empty() ? "node" : h) + "-" + std::to_string(getpid()) + "-" + new_job_id().substr(1, 6);
+  // Workers write, HTTP threads read: enough connections that neither waits
+  // long for the other, few enough that 10 nodes fit PostgreSQL's default
+  // max_connections of 100 (each node: workers + 6, 2 for heartbeats and
+  // progress, 3 for blobs, 1 listener).
+  ctx_.pool = std::make_unique<PgPool>(c.database_url, c.workers + 6);
+  ctx_.advisory_pool = std::make_unique<PgPool>(c.database_url, 2, kAdvisoryWrites);
+  ctx_.blob_pool = std::make_unique<PgPool>(c.database_url, 3);
+  // Nodes may start before the database accepts connections (compose,
+  // Kubernetes): wait up to a minute for it, then give up with the reason.
+  for (int i = 0;; ++i) {
+    try {
+      auto conn = ctx_.pool->take();
+      int applied = migrate_pg_schema(*conn);
+      log::info("database", {{"url", redact_database_url(c.database_url)}, {"schema_version", pg_schema_version()},
+                             {"migrations_applied", applied}, {"node", ctx_.node_id}});
+      break;
+    } catch (const StorageUnavailable& e) {
+      if (i >= 60) throw std::runtime_error(std::string("cannot reach the database: ") + e.what());
+      if (i % 10 == 0) log::warn("waiting for the database", {{"error", e.what()}});
+      std::this_thread::sleep_for(std::chrono::seconds(1));
+    }
+  }
+  auto pg = std::make_unique<PgJobStore>(*ctx_.pool, ctx_.advisory_pool.get());
+  ctx_.queue = pg.get();
+  ctx_.store = std::move(pg);
+  ctx_.blobs = open_pg_blob_store(*ctx_.blob_pool);
+  ctx_.metrics.shared_queue();
+}
+
 bool App::bind() {
   const Config& c = ctx_.config;
   if (c.metrics_port > 0) {
@@ -156,6 +213,16 @@ bool App::bind() {
 void App::serve() {
   size_t recovered = ctx_.scheduler->recover();
   ctx_.scheduler->start();
+  if (ctx_.queue) {
+    listener_ = std::make_unique<PgListener>(ctx_.config.database_url, [this](const std::string& channel,
+                                                                              const std::string& payload) {
+      if (channel == kCancelChannel) ctx_.scheduler->cancel_local(payload);
+      else ctx_.scheduler->wake();
+    });
+    listener_->start();
+    reaper_ = std::make_unique<JobReaper>(*ctx_.queue, ctx_.config, ctx_.metrics);
+    reaper_->start();
+  }
   sweeper_ = std::thread([this] { sweep_loop(); });
   if (metrics_http_) metrics_thread_ = std::thread([this] { metrics_http_->listen_after_bind(); });
   log::info("listening", {{"host", ctx_.config.host}, {"port", port_}, {"data_dir", ctx_.data->root().string()},
@@ -179,6 +246,8 @@ void App::stop() {
   if (metrics_http_) metrics_http_->stop();
   if (metrics_thread_.joinable()) metrics_thread_.join();
   if (ctx_.scheduler) ctx_.scheduler->stop();
+  if (reaper_) reaper_->stop();
+  if (listener_) listener_->stop();
   if (sweeper_.joinable()) sweeper_.join();
   log::info("stopped");
 }
@@ -209,12 +278,24 @@ void App::sweep_loop() {
     if (stopping_) break;
     lock.unlock();
     try {
-      for (const auto& id : ctx_.store->finished_before(now_seconds() - ctx_.config.result_ttl_s)) {
-        if (!is_valid_job_id(id)) continue;
+      if (ctx_.queue) {
+        // The database's clock decides and deletes rows and blobs together;
+        // any node may do it, each row once (SKIP LOCKED).
+        for (const auto& id : ctx_.queue->expire(ctx_.config.result_ttl_s)) log::info("job expired", {{"job", id}});
+        // Scratch directories of attempts a killed process left here.
         std::error_code ec;
-        fs::remove_all(ctx_.data->job(id), ec);
-        ctx_.store->remove(id);
-        log::info("job expired", {{"job", id}});
+        for (const auto& e : fs::directory_iterator(ctx_.data->root() / "jobs", ec)) {
+          auto age = fs::file_time_type::clock::now() - fs::last_write_time(e.path(), ec);
+          if (!ec && age > std::chrono::seconds(ctx_.config.job_timeout_s + 3600)) fs::remove_all(e.path(), ec);
+        }
+      } else {
+        for (const auto& id : ctx_.store->finished_before(now_seconds() - ctx_.config.result_ttl_s)) {
+          if (!is_valid_job_id(id)) continue;
+          std::error_code ec;
+          fs::remove_all(ctx_.data->job(id), ec);
+          ctx_.store->remove(id);
+          log::info("job expired", {{"job", id}});
+        }
       }
       auto pruned = prune_cache(ctx_.data->cache(), ctx_.config.cache_size_mb << 20);
       if (pruned.files_removed > 0)

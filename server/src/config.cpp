@@ -113,6 +113,19 @@ const std::vector<Option>& options() {
        [](Config& c, const std::string& v) { c.min_free_mb = parse_int("min-free-mb", v, 0, int64_t(1) << 40); }},
       {"validate-uploads", "check each upload with `soupuv inspect` before queueing (default true)",
        [](Config& c, const std::string& v) { c.validate_uploads = parse_bool("validate-uploads", v); }},
+      {"database-url", "postgresql://USER:PASSWORD@HOST:PORT/DB: jobs, queue, inputs and results in PostgreSQL, "
+                       "shared by every server with the same URL (default none: SQLite and files in --data-dir)",
+       [](Config& c, const std::string& v) {
+         if (!v.empty() && v.rfind("postgresql://", 0) != 0 && v.rfind("postgres://", 0) != 0)
+           throw ConfigError("--database-url must start with postgresql:// (or be empty for the embedded store)");
+         c.database_url = v;
+       }},
+      {"lease-seconds", "with --database-url: seconds a worker holds a claimed job without a heartbeat before "
+                        "another node may run it (default 30)",
+       [](Config& c, const std::string& v) { c.lease_seconds = double(parse_int("lease-seconds", v, 1, 3600)); }},
+      {"poll-interval-ms", "with --database-url: how often idle workers look at the queue besides notifications "
+                           "(default 1000)",
+       [](Config& c, const std::string& v) { c.poll_interval_ms = int(parse_int("poll-interval-ms", v, 10, 60000)); }},
       {"log-level", "trace, debug, info, warn, error (default info)",
        [](Config& c, const std::string& v) {
          static const char* levels[] = {"trace", "debug", "info", "warn", "error", "off"};

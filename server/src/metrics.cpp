@@ -50,7 +50,7 @@ std::string label(const std::string& v) {
 
 // One line of HELP for each gauge the server samples (render's `gauges`).
 const char* gauge_help(const std::string& name) {
-  if (name == "queue_depth") return "Jobs waiting for a worker.";
+  if (name == "queue_depth") return "Jobs waiting for a worker (with --database-url: across the service).";
   if (name == "queue_capacity") return "Jobs that may wait before submissions get 429.";
   if (name == "workers_busy") return "Worker processes running a job.";
   if (name == "workers") return "Configured worker processes.";
@@ -105,6 +105,17 @@ void Metrics::cache_hits(int64_t hits) {
   cache_hits_ += uint64_t(hits);
 }
 
+void Metrics::lease_lost() {
+  std::lock_guard lock(mu_);
+  ++leases_lost_;
+}
+
+void Metrics::leases_reaped(int64_t requeued, int64_t failed) {
+  std::lock_guard lock(mu_);
+  reaped_requeued_ += uint64_t(requeued);
+  reaped_failed_ += uint64_t(failed);
+}
+
 void Metrics::upload_bytes(int64_t bytes) {
   std::lock_guard lock(mu_);
   upload_bytes_ += uint64_t(bytes);
@@ -142,6 +153,14 @@ std::string Metrics::render(const std::map<std::string, double>& gauges) const {
        "# TYPE soupuv_cache_hits_total counter\nsoupuv_cache_hits_total " << cache_hits_ << "\n";
   o << "# HELP soupuv_upload_bytes_total Bytes of accepted uploads.\n"
        "# TYPE soupuv_upload_bytes_total counter\nsoupuv_upload_bytes_total " << upload_bytes_ << "\n";
+  if (shared_queue_) {
+    o << "# HELP soupuv_leases_lost_total Jobs this node stopped because its lease was gone (another node took over).\n"
+         "# TYPE soupuv_leases_lost_total counter\nsoupuv_leases_lost_total " << leases_lost_ << "\n";
+    o << "# HELP soupuv_leases_reaped_total Expired leases this node's reaper handled, by outcome.\n"
+         "# TYPE soupuv_leases_reaped_total counter\n"
+         "soupuv_leases_reaped_total{outcome=\"requeued\"} " << reaped_requeued_ << "\n"
+         "soupuv_leases_reaped_total{outcome=\"failed\"} " << reaped_failed_ << "\n";
+  }
   return o.str();
 }
 

@@ -102,23 +102,18 @@ void send_json(httplib::Response& res, int status, const nlohmann::json& j) {
   res.set_content(j.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace), "application/json");
 }
 
-// Streams a file from disk in 64 KiB pieces (never loaded whole).
-bool send_file(httplib::Response& res, const fs::path& path, const std::string& type) {
-  std::error_code ec;
-  auto size = fs::file_size(path, ec);
-  if (ec) return false;
-  auto in = std::make_shared<std::ifstream>(path, std::ios::binary);
-  if (!*in) return false;
+// Streams a stored file in pieces (never loaded whole): at most one chunk
+// (blob_store.h) per call of the provider, from disk or from PostgreSQL.
+bool send_blob(httplib::Response& res, BlobStore& blobs, const std::string& id, const std::string& name,
+               const std::string& type) {
+  auto size = blobs.size(id, name);
+  if (!size) return false;
   res.set_content_provider(
-      size_t(size), type,
-      [in](size_t offset, size_t length, httplib::DataSink& sink) {
-        char buf[65536];
-        in->seekg(std::streamoff(offset));
-        size_t n = std::min(length, sizeof buf);
-        in->read(buf, std::streamsize(n));
-        auto got = size_t(in->gcount());
-        if (got == 0) return false;
-        return sink.write(buf, got);
+      size_t(*size), type,
+      [&blobs, id, name](size_t offset, size_t length, httplib::DataSink& sink) {
+        const int64_t n = std::min<int64_t>(int64_t(length), kBlobChunkBytes - int64_t(offset) % kBlobChunkBytes);
+        return blobs.read(id, name, int64_t(offset), n,
+                          [&](const char* p, size_t len) { return sink.write(p, len); });
       });
   return true;
 }
@@ -258,6 +253,48 @@ bool refuse_submission(ServerContext& ctx, const httplib::Request& req, httplib:
     return true;
   }
   return false;
+}
+
+void replay(httplib::Response& res, const ServerContext& ctx, const Job& stored, const Job& job) {
+  if (stored.request_hash != job.request_hash)
+    return set_problem(res, 422, "idempotency-key-reused", "this Idempotency-Key was used with a different request");
+  res.set_header("Location", "/v1/jobs/" + stored.id);
+  res.set_header("Idempotent-Replayed", "true");
+  poll_hint(res, ctx, stored);
+  send_json(res, 202, to_json(stored));
+}
+
+// The end of POST /v1/jobs with --database-url: the checked upload's files go
+// into the blob store (streamed, durable when put returns), then the row is
+// inserted as queued, capacity counted across the service (JobQueue::submit),
+// and every node's idle workers are woken by its NOTIFY. Blobs of a refused
+// submission are deleted here; those of a node that died in between are
+// swept after an hour (PgJobStore::expire).
+void submit_shared(ServerContext& ctx, const httplib::Request&, httplib::Response& res, const Job& job,
+                   const fs::path& tmp, int64_t model_bytes) {
+  struct Undo {
+    ServerContext& ctx;
+    std::string id;
+    ~Undo() {
+      if (id.empty()) return;
+      try {
+        ctx.blobs->remove(id);
+      } catch (const std::exception& e) {
+        log::warn("blobs of a refused upload not removed (swept later)", {{"job", id}, {"error", e.what()}});
+      }
+    }
+  } undo{ctx, job.id};
+  for (const std::string name : {job.input_file, std::string("texture.png"), std::string("texture.jpg")})
+    if (fs::exists(tmp / name)) ctx.blobs->put(job.id, name, tmp / name);
+  SubmitAnswer answer = ctx.queue->submit(job, ctx.config.queue_capacity);
+  if (answer.admission == Admission::full) return queue_full(res, ctx, 429);
+  if (answer.admission == Admission::duplicate) return replay(res, ctx, *answer.job, job);
+  undo.id.clear();
+  ctx.metrics.upload_bytes(model_bytes);
+  log::info("job submitted", {{"job", job.id}, {"bytes", model_bytes}, {"type", job.content_type}, {"params", job.params}});
+  res.set_header("Location", "/v1/jobs/" + job.id);
+  poll_hint(res, ctx, *answer.job);
+  send_json(res, 202, to_json(*answer.job));
 }
 
 void submit_job(ServerContext& ctx, const httplib::Request& req, httplib::Response& res,
@@ -405,6 +442,8 @@ void submit_job(ServerContext& ctx, const httplib::Request& req, httplib::Respon
   job.idempotency_key = key;
   job.request_hash = hasher.hex();
 
+  if (ctx.queue) return submit_shared(ctx, req, res, job, tmp, model_bytes);
+
   // Durable before visible: files are fsynced by BoundedFileWriter, the
   // directory rename is atomic, then the row is committed.
   const fs::path dir = ctx.data->job(id);
@@ -447,7 +486,7 @@ void serve_output(ServerContext& ctx, const httplib::Request& req, httplib::Resp
                        extra);
   }
   if (std::find(job->outputs.begin(), job->outputs.end(), name) == job->outputs.end() ||
-      !send_file(res, ctx.data->job(job->id) / name, type))
+      !send_blob(res, *ctx.blobs, job->id, name, type))
     return set_problem(res, 404, "not-found", "this job has no " + name);
   res.status = 200;
   if (name == "result.glb") res.set_header("Content-Disposition", "attachment; filename=\"" + job->id + ".glb\"");
@@ -661,8 +700,7 @@ void register_routes(httplib::Server& http, ServerContext& ctx) {
                          "the job is " + std::string(to_string(j->state)) + "; cancel it first: POST /v1/jobs/" +
                              j->id + ":cancel",
                          {{"state", to_string(j->state)}});
-    std::error_code ec;
-    fs::remove_all(ctx.data->job(j->id), ec);
+    ctx.blobs->remove(j->id);
     ctx.store->remove(j->id);
     log::info("job deleted", {{"job", j->id}});
     res.status = 204;
@@ -702,8 +740,22 @@ void register_routes(httplib::Server& http, ServerContext& ctx) {
                              {"worker_capabilities", !ctx.caps.flags.empty()},
                              {"data_dir_writable", disk.writable},
                              {"disk_space", disk.enough_space},
-                             {"queue_has_room", ctx.scheduler->has_room()}};
+                             {"queue_has_room", false}};
+    try {
+      checks["queue_has_room"] = ctx.scheduler->has_room();
+    } catch (const std::exception&) {  // the shared queue's database is away: reported below
+    }
     bool ok = checks["worker_binary"].get<bool>() && !ctx.caps.flags.empty() && disk.writable && disk.enough_space;
+    if (ctx.queue) {  // --database-url: a node that cannot reach the database serves nothing useful
+      bool db = false;
+      try {
+        ctx.queue->queued();
+        db = true;
+      } catch (const std::exception&) {
+      }
+      checks["database"] = db;
+      ok = ok && db;
+    }
     send_json(res, ok ? 200 : 503, {{"status", ok ? "ready" : "not ready"}, {"checks", checks}});
   });
   http.Get("/metrics", [&ctx](const httplib::Request&, httplib::Response& res) {

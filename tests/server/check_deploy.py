@@ -141,7 +141,7 @@ if csec.get("readOnlyRootFilesystem"):
 check("Dockerfile build stage installs build packages only", "SOUPUV_DEPS=build bash scripts/install-deps.sh" in dockerfile)
 build_list = subprocess.run(["bash", os.path.join(src, "scripts/install-deps.sh"), "--print"],
                             env=dict(os.environ, SOUPUV_DEPS="build"), capture_output=True, text=True).stdout.split()
-test_only = {"libgtest-dev", "libgmock-dev", "chromium", "nginx-light", "clang", "python3-yaml"}
+test_only = {"libgtest-dev", "libgmock-dev", "chromium", "nginx-light", "clang", "python3-yaml", "postgresql"}
 check("SOUPUV_DEPS=build has no test-only package", bool(build_list) and not (set(build_list) & test_only),
       str(set(build_list) & test_only))
 full_list = subprocess.run(["bash", os.path.join(src, "scripts/install-deps.sh"), "--print"],
@@ -164,6 +164,96 @@ if nginx:
         open(os.path.join(d, "nginx.conf"), "w").write(main)
         r = subprocess.run([nginx, "-t", "-p", d, "-c", os.path.join(d, "nginx.conf")], capture_output=True, text=True)
         check("nginx -t accepts deploy/nginx/soupuv.conf", r.returncode == 0, r.stderr)
+
+# ---- scale-out: compose with PostgreSQL, 2 replicas, nginx ------------------------------------
+cl = load_all(os.path.join(src, "deploy/compose/docker-compose.yml"))[0]
+cs = cl["services"]
+check("cluster compose has postgres, soupuv, nginx", {"postgres", "soupuv", "nginx"} <= set(cs))
+cenv = cs["soupuv"]["environment"]
+check("cluster compose env vars are server options", set(cenv) <= env_vars, str(set(cenv) - env_vars))
+check("cluster compose: two soupuv replicas", cs["soupuv"].get("deploy", {}).get("replicas", 1) >= 2)
+db_url = str(cenv.get("SOUPUV_DATABASE_URL", ""))
+check("cluster compose: database URL points at the postgres service",
+      db_url.startswith("postgresql://") and "@postgres:5432/" in db_url, db_url)
+check("cluster compose: postgres is Debian 12's major version (15)", str(cs["postgres"]["image"]).startswith("postgres:15"))
+check("cluster compose: soupuv waits for a healthy postgres",
+      cs["soupuv"].get("depends_on", {}).get("postgres", {}).get("condition") == "service_healthy")
+check("cluster compose: no password in the file", "${SOUPUV_DB_PASSWORD" in open(
+    os.path.join(src, "deploy/compose/docker-compose.yml")).read() and "POSTGRES_PASSWORD" in cs["postgres"]["environment"])
+cpub = [p for sv in cs.values() for p in sv.get("ports", [])]
+check("cluster compose publishes on 127.0.0.1 only (postgres not at all)",
+      all(str(p).startswith("127.0.0.1:") for p in cpub) and not cs["postgres"].get("ports"), str(cpub))
+check("cluster compose dockerfile exists", os.path.exists(os.path.join(
+    src, "deploy/compose", cs["soupuv"]["build"]["context"], cs["soupuv"]["build"]["dockerfile"])))
+cng = cs["nginx"]["volumes"][0].split(":")[0]
+check("cluster compose nginx config exists", os.path.exists(os.path.join(src, "deploy/compose", cng)))
+not_anonymous("cluster compose", cenv)
+check("cluster compose tokens secret", cenv.get("SOUPUV_TOKENS_FILE") == "/run/secrets/soupuv-tokens"
+      and cl["secrets"]["soupuv-tokens"]["file"].startswith("../secrets/"))
+
+# ---- scale-out: Kubernetes (Deployment of N, PostgreSQL StatefulSet, KEDA on queue depth) -----
+kdocs = []
+for name in sorted(os.listdir(os.path.join(src, "deploy/k8s-postgres"))):
+    if name.endswith(".yaml"):
+        kdocs += load_all(os.path.join(src, "deploy/k8s-postgres", name))
+kk = {}
+for d in kdocs:
+    kk.setdefault(d["kind"], []).append(d)
+for k in ["Deployment", "StatefulSet", "Service", "ConfigMap", "ScaledObject", "TriggerAuthentication"]:
+    check(f"k8s-postgres has a {k}", k in kk)
+dep = kk["Deployment"][0]
+kcm = kk["ConfigMap"][0]["data"]
+check("k8s-postgres ConfigMap keys are server options", set(kcm) <= env_vars, str(set(kcm) - env_vars))
+not_anonymous("k8s-postgres ConfigMap", kcm)
+check("k8s-postgres: several replicas, rolling updates", dep["spec"]["replicas"] >= 2
+      and dep["spec"]["strategy"]["type"] == "RollingUpdate")
+kc = dep["spec"]["template"]["spec"]["containers"][0]
+kenv = {e["name"]: e for e in kc.get("env", [])}
+check("k8s-postgres: database URL from a Secret",
+      "secretKeyRef" in kenv.get("SOUPUV_DATABASE_URL", {}).get("valueFrom", {}))
+check("k8s-postgres env names are server options", set(kenv) <= env_vars)
+check("k8s-postgres: probes /healthz and /readyz", kc["livenessProbe"]["httpGet"]["path"] == "/healthz"
+      and kc["readinessProbe"]["httpGet"]["path"] == "/readyz")
+check("k8s-postgres: container port = SOUPUV_PORT", str(kc["ports"][0]["containerPort"]) == kcm["SOUPUV_PORT"])
+kvols = {v["name"]: v for v in dep["spec"]["template"]["spec"]["volumes"]}
+kmounts = {m["mountPath"]: m["name"] for m in kc["volumeMounts"]}
+check("k8s-postgres: data dir is per-pod scratch (no shared PVC)",
+      "emptyDir" in kvols.get(kmounts.get(kcm["SOUPUV_DATA_DIR"]), {}))
+check("k8s-postgres: tokens Secret at the tokens file's directory",
+      "secret" in kvols.get(kmounts.get(os.path.dirname(kcm["SOUPUV_TOKENS_FILE"])), {}))
+check("k8s-postgres: runs as non-root", dep["spec"]["template"]["spec"]["securityContext"]["runAsNonRoot"] is True)
+sts = kk["StatefulSet"][0]
+check("k8s-postgres: PostgreSQL 15 StatefulSet with its own volume",
+      sts["spec"]["template"]["spec"]["containers"][0]["image"].startswith("postgres:15")
+      and bool(sts["spec"].get("volumeClaimTemplates")))
+pg_svc = [sv for sv in kk["Service"] if sv["spec"]["selector"] == sts["spec"]["selector"]["matchLabels"]]
+check("k8s-postgres: a Service selects the PostgreSQL pod", len(pg_svc) == 1 and sts["spec"]["serviceName"] == pg_svc[0]["metadata"]["name"])
+app_svc = [sv for sv in kk["Service"] if sv["spec"]["selector"] == dep["spec"]["selector"]["matchLabels"]]
+check("k8s-postgres: a Service selects the soupuv pods", len(app_svc) == 1 and app_svc[0]["spec"]["ports"][0]["targetPort"] == kc["ports"][0]["name"])
+so = kk["ScaledObject"][0]
+trig = so["spec"]["triggers"][0]
+check("KEDA scales the soupuv Deployment", so["spec"]["scaleTargetRef"]["name"] == dep["metadata"]["name"])
+check("KEDA trigger counts the queue in soupuv_jobs", trig["type"] == "postgresql"
+      and "soupuv_jobs" in trig["metadata"]["query"] and "queued" in trig["metadata"]["query"])
+check("KEDA keeps at least the Deployment's replicas", so["spec"]["minReplicaCount"] >= 1)
+check("KEDA authentication exists", trig["authenticationRef"]["name"] in
+      [t["metadata"]["name"] for t in kk["TriggerAuthentication"]])
+# The table the KEDA query reads is the one the migrations create.
+schema = open(os.path.join(src, "server/src/pg_schema.cpp")).read()
+check("KEDA query's table and states exist in the schema", "CREATE TABLE soupuv_jobs" in schema
+      and "'queued','running'" in schema)
+# nginx config of the cluster compose passes nginx -t too.
+if nginx:
+    cconf = open(os.path.join(src, "deploy/compose/nginx.conf")).read()
+    with tempfile.TemporaryDirectory() as d:
+        site = cconf.replace("server soupuv:8080;", "server 127.0.0.1:8080;").replace("listen 80;", "listen 127.0.0.1:18998;")
+        main = (f"pid {d}/nginx.pid; error_log {d}/error.log; events {{}}\n"
+                f"http {{ access_log off; client_body_temp_path {d}; proxy_temp_path {d}; "
+                f"fastcgi_temp_path {d}; uwsgi_temp_path {d}; scgi_temp_path {d};\n{site}\n}}\n")
+        open(os.path.join(d, "nginx.conf"), "w").write(main)
+        r = subprocess.run([nginx, "-t", "-p", d, "-c", os.path.join(d, "nginx.conf")], capture_output=True, text=True)
+        check("nginx -t accepts deploy/compose/nginx.conf", r.returncode == 0, r.stderr)
+    check("cluster nginx streams uploads", "proxy_request_buffering off" in cconf)
 
 passed = sum(results)
 failed = len(results) - passed

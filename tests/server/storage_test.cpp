@@ -153,7 +153,9 @@ TEST(Storage, FailingJobStoreNeverTerminatesTheSupervisor) {
   // The worker double reads its mode from the environment it inherits.
   setenv("SOUPUV_TEST_WORKER_MODE", "slow", 1);
   setenv("SOUPUV_TEST_WORKER_SECONDS", "0", 1);
-  Scheduler scheduler(config, SOUPUV_WORKER_DOUBLE, probe_worker(SOUPUV_WORKER_DOUBLE), store, data, metrics);
+  auto blobs = open_file_blob_store(data);
+  Scheduler scheduler(config, SOUPUV_WORKER_DOUBLE, probe_worker(SOUPUV_WORKER_DOUBLE), store, data, metrics,
+                      *blobs);
   scheduler.start();
 
   // Every write fails: the job cannot even be marked running. The thread

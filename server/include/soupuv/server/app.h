@@ -13,12 +13,17 @@
 #include <httplib.h>
 
 #include "soupuv/server/auth.h"
+#include "soupuv/server/blob_store.h"
 #include "soupuv/server/config.h"
 #include "soupuv/server/files.h"
 #include "soupuv/server/http_server.h"
+#include "soupuv/server/job_queue.h"
+#include "soupuv/server/job_reaper.h"
 #include "soupuv/server/job_store.h"
 #include "soupuv/server/metrics.h"
 #include "soupuv/server/params.h"
+#include "soupuv/server/pg_connection.h"
+#include "soupuv/server/pg_listener.h"
 #include "soupuv/server/scheduler.h"
 
 namespace soupuv::server {
@@ -32,7 +37,15 @@ struct WebAsset {
 struct ServerContext {
   Config config;
   std::unique_ptr<DataDir> data;
+  // --database-url: connections of the job store (status reads, worker
+  // writes) and of the blob store (uploads, downloads) apart, so a large
+  // transfer never makes a status poll wait for a connection. Declared before
+  // the stores, destroyed after them.
+  std::unique_ptr<PgPool> pool, advisory_pool, blob_pool;
   std::unique_ptr<JobStore> store;
+  JobQueue* queue = nullptr;  // the store's shared queue; nullptr: embedded
+  std::unique_ptr<BlobStore> blobs;  // inputs and results
+  std::string node_id;  // this process in lease owners
   Metrics metrics;
   TokenRegistry tokens;  // empty set: no authentication (loopback or --allow-anonymous)
   std::string worker_bin;  // empty: none found
@@ -59,6 +72,7 @@ class App {
 
  private:
   void sweep_loop();
+  void open_database();  // --database-url: pools, migrations, stores
 
   ServerContext ctx_;
   HttpServer http_;
@@ -67,6 +81,8 @@ class App {
   std::unique_ptr<httplib::Server> metrics_http_;
   std::thread metrics_thread_;
   std::thread sweeper_;
+  std::unique_ptr<PgListener> listener_;  // --database-url
+  std::unique_ptr<JobReaper> reaper_;     // --database-url
   std::mutex sweep_mu_;
   std::condition_variable sweep_cv_;
   bool stopping_ = false;

@@ -65,6 +65,12 @@ struct Config {
   // refused (503 + Retry-After) and /readyz reports not ready.
   int64_t min_free_mb = 512;
   bool validate_uploads = true;         // run `soupuv inspect` before queueing
+  // Scale-out (job_queue.h): a postgresql:// URL puts jobs, the queue, inputs
+  // and results in that database, shared by every process given the same
+  // URL. Empty: the embedded SQLite file and data directory.
+  std::string database_url;
+  double lease_seconds = 30;            // a claimed job's lease; renewed 5 times per lease
+  int poll_interval_ms = 1000;          // idle workers look at the shared queue this often (NOTIFY wakes them sooner)
   std::string log_level = "info";
 
   int threads_per_job() const;

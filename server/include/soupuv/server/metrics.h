@@ -22,6 +22,10 @@ class Metrics {
   void job_finished(const std::string& state);
   void cache_hits(int64_t hits);
   void upload_bytes(int64_t bytes);
+  // Shared queue (--database-url) only; rendered once shared_queue() is set.
+  void shared_queue() { shared_queue_ = true; }
+  void lease_lost();                                 // a heartbeat found a lease gone
+  void leases_reaped(int64_t requeued, int64_t failed);  // by this node's reaper
 
   // `gauges` are point-in-time values the caller samples (queue depth, jobs by state).
   std::string render(const std::map<std::string, double>& gauges) const;
@@ -36,6 +40,8 @@ class Metrics {
     uint64_t count = 0;
   };
   mutable std::mutex mu_;
+  std::atomic<bool> shared_queue_{false};
+  uint64_t leases_lost_ = 0, reaped_requeued_ = 0, reaped_failed_ = 0;
   std::map<int, uint64_t> http_by_code_;
   std::map<std::string, Histogram> stages_;
   std::map<std::string, Histogram> http_durations_;

@@ -1,0 +1,125 @@
+// The API's service-wide promises with --database-url, over HTTP, on two
+// nodes sharing a real PostgreSQL (pg_harness.h). The worker is the protocol
+// double (worker_double.sh, "slow": a job lasts as long as the test wants),
+// so these test the server, never a mapping.
+#include <gtest/gtest.h>
+
+#include <sstream>
+#include <thread>
+
+#include "harness.h"
+#include "pg_harness.h"
+
+using namespace soupuv::test;
+
+namespace {
+
+#define START_POSTGRES(pg)                                        \
+  TempPostgres pg;                                                \
+  if (!pg.ok()) {                                                 \
+    if (postgres_required()) FAIL() << pg.error();                \
+    GTEST_SKIP() << pg.error();                                   \
+  }
+
+}  // namespace
+
+// A cancel sent to one node stops the worker running the job on the other,
+// at once (NOTIFY), and capacity is the service's: one node refuses what the
+// other filled.
+TEST(ClusterApi, CancelReachesTheOtherNodeAndCapacityIsShared) {
+  START_POSTGRES(pg);
+  const std::vector<std::string> args = {"--database-url", pg.url(), "--workers", "1", "--queue-capacity", "1",
+                                         "--lease-seconds", "10"};
+  std::unique_ptr<ServerProcess> nodes[2] = {with_double("capi-a", "slow", args, "60"),
+                                             with_double("capi-b", "slow", args, "60")};
+  httplib::Client clients[2] = {nodes[0]->client(), nodes[1]->client()};
+  // Two jobs: one runs on each node's only worker.
+  const std::string first = submit_box(clients[0]), second = submit_box(clients[1]);
+  ASSERT_FALSE(first.empty());
+  ASSERT_FALSE(second.empty());
+  wait_state(clients[0], first, "running", 20);
+  wait_state(clients[1], second, "running", 20);
+  // The third waits: the service's one queued place.
+  const std::string queued = submit_box(clients[0]);
+  ASSERT_FALSE(queued.empty());
+  for (auto& c : clients) {
+    auto full = submit(c, read_bytes(shared_data("gltf/Box.glb")), "model/gltf-binary");
+    ASSERT_TRUE(full);
+    EXPECT_EQ(full->status, 429) << full->body;
+    EXPECT_TRUE(full->has_header("Retry-After"));
+    EXPECT_NE(full->body.find("/problems/queue-full"), std::string::npos);
+  }
+  // Cancel of the queued job on the other node: done at once, 200.
+  auto cq = clients[1].Post(("/v1/jobs/" + queued + ":cancel").c_str());
+  ASSERT_TRUE(cq);
+  EXPECT_EQ(cq->status, 200) << cq->body;
+  // Which node runs `first`? Its log says so; cancel it through the other.
+  int runner = -1;
+  for (int i = 0; i < 2; ++i) {
+    std::istringstream log(nodes[i]->log());
+    for (std::string line; std::getline(log, line);) {
+      auto l = nlohmann::json::parse(line, nullptr, false);
+      if (l.is_object() && l.value("msg", "") == "job started" && l.value("job", "") == first) runner = i;
+    }
+  }
+  ASSERT_GE(runner, 0);
+  const int other = 1 - runner;
+  const auto t0 = std::chrono::steady_clock::now();
+  auto cr = clients[other].Post(("/v1/jobs/" + first + ":cancel").c_str());
+  ASSERT_TRUE(cr);
+  // 202 (the cancel is on its way), or 200 when the other node was quicker
+  // than this answer's read of the row.
+  EXPECT_TRUE(cr->status == 202 || cr->status == 200) << cr->status << " " << cr->body;
+  auto j = wait_finished(clients[other], first, 20);
+  EXPECT_EQ(j["state"], "canceled") << j.dump();
+  EXPECT_LT(std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count(), 10.0);
+  // Room again (a worker is free and the queue is empty): accepted anywhere.
+  EXPECT_FALSE(submit_box(clients[other]).empty());
+  for (auto& c : clients) c.Post(("/v1/jobs/" + second + ":cancel").c_str());
+}
+
+// The same Idempotency-Key sent to both nodes is one job; results and
+// deletes work from either node; the upload's bytes come back whole.
+TEST(ClusterApi, IdempotencyDownloadsAndDeleteAcrossNodes) {
+  START_POSTGRES(pg);
+  const std::vector<std::string> args = {"--database-url", pg.url(), "--workers", "1"};
+  auto a = with_double("capi-c", "slow", args, "0");
+  auto b = with_double("capi-d", "slow", args, "0");
+  auto c_a = a->client(), c_b = b->client();
+  const std::string box = read_bytes(shared_data("gltf/Box.glb"));
+  auto r1 = submit(c_a, box, "model/gltf-binary", "", {{"Idempotency-Key", "same-key"}});
+  auto r2 = submit(c_b, box, "model/gltf-binary", "", {{"Idempotency-Key", "same-key"}});
+  ASSERT_TRUE(r1 && r2);
+  ASSERT_EQ(r1->status, 202) << r1->body;
+  ASSERT_EQ(r2->status, 202) << r2->body;
+  const std::string id = nlohmann::json::parse(r1->body)["id"];
+  EXPECT_EQ(nlohmann::json::parse(r2->body)["id"], id);
+  EXPECT_EQ(r2->get_header_value("Idempotent-Replayed"), "true");
+  // A different request under the same key: 422 on the other node too.
+  auto r3 = submit(c_b, box, "model/gltf-binary", "?texture_size=128", {{"Idempotency-Key", "same-key"}});
+  ASSERT_TRUE(r3);
+  EXPECT_EQ(r3->status, 422);
+  auto j = wait_finished(c_b, id, 30);
+  ASSERT_EQ(j["state"], "succeeded") << j.dump();
+  // The double copies its input to the result: the bytes went through the
+  // blob store twice (upload, result) and come back from both nodes.
+  for (auto* c : {&c_a, &c_b}) {
+    auto res = c->Get(("/v1/jobs/" + id + "/result").c_str());
+    ASSERT_TRUE(res);
+    EXPECT_EQ(res->status, 200);
+    EXPECT_EQ(res->body, box);
+  }
+  EXPECT_EQ(c_b.Get(("/v1/jobs/" + id + "/nothing").c_str())->status, 404);
+  auto del = c_b.Delete(("/v1/jobs/" + id).c_str());
+  ASSERT_TRUE(del);
+  EXPECT_EQ(del->status, 204);
+  EXPECT_EQ(c_a.Get(("/v1/jobs/" + id).c_str())->status, 404);
+  EXPECT_EQ(c_a.Get(("/v1/jobs/" + id + "/result").c_str())->status, 404);
+  // /readyz reports the database, /metrics the service-wide counts.
+  auto ready = c_a.Get("/readyz");
+  EXPECT_EQ(ready->status, 200) << ready->body;
+  EXPECT_NE(ready->body.find("\"database\":true"), std::string::npos);
+  auto m = c_a.Get("/metrics");
+  EXPECT_NE(m->body.find("soupuv_leases_reaped_total"), std::string::npos);
+  EXPECT_NE(m->body.find("soupuv_queue_depth 0"), std::string::npos);
+}
