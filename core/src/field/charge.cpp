@@ -7,6 +7,7 @@
 #include <ctime>
 #include <map>
 #include <numeric>
+#include <sstream>
 #include <tuple>
 
 #include "charge_solvers.h"
@@ -120,6 +121,21 @@ ChargeResult solve_charges(const Soup& soup, const ChargeOptions& options_in, Pr
                                                options.threads, op.get(), &r.verified_by, &r.mean_potential);
   op.reset();
   r.converged = r.max_rel_potential_error <= options.tolerance;
+  if (!r.converged) {
+    // Say why: a solve that met its own target against its FMM leaves that
+    // FMM's truncation error, which the higher-order verification sees.
+    const double target = options.tolerance / (r.solver == "krylov" ? 5 : r.solver.rfind("robin-hood", 0) == 0 ? 2 : 1);
+    const double reached = r.history.empty() ? NAN : r.history.back();
+    std::ostringstream why;
+    why << "charge not converged: potential error " << r.max_rel_potential_error << " (verified by "
+        << r.verified_by << ") above the tolerance " << options.tolerance << "; ";
+    if (reached <= target)
+      why << "the solver met its own target (" << reached << " <= " << target << " against the order-"
+          << options.fmm_order << " FMM), so the rest is that FMM's truncation error";
+    else
+      why << "the solver stopped at " << reached << " (its target " << target << ")";
+    r.warnings.push_back(why.str());
+  }
   r.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   progress.update("charge", 1.0);
   return r;
