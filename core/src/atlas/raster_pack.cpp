@@ -191,21 +191,33 @@ RasterPackResult raster_pack(std::vector<PackChart>& charts, int texture_size, d
   // One packing at `scale`: the strip rows used, or INT_MAX if a chart found
   // no place in the strip.
   std::vector<RowMask> masks(static_cast<size_t>(n) * options.angles);
+  std::vector<uint8_t> too_big(masks.size(), 0);
   std::vector<Placed> placed(n), best;
   auto pack_at = [&](double scale, const std::vector<int>& order, double height_weight) {
     ++result.attempts;
+    // A turn wider than the square or taller than the strip cannot fit and
+    // is not rasterised (a needle a billion times longer than wide, at a
+    // scale set by its area, would need more texels than memory holds).
+    auto fits = [&](const std::vector<Vec2>& q) {
+      double w = 0, h = 0;
+      for (const Vec2& p : q) w = std::max(w, p.x), h = std::max(h, p.y);
+      return w <= side + 2 && h <= 2.0 * side + 2;
+    };
 #pragma omp parallel for schedule(dynamic, 4) num_threads(options.threads)
     for (int job = 0; job < n * options.angles; ++job) {
       const int i = job / options.angles, k = job % options.angles;
       const Turn& t = turns[i][k];
+      too_big[job] = 0;
       if (charts[i].outline) {
         std::vector<Vec2> outline;
         outline.reserve(charts[i].outline->size());
         for (int v : *charts[i].outline) outline.push_back(local_texel(t, v, scale));
+        if (!fits(outline)) { too_big[job] = 1; masks[job] = {}; continue; }
         masks[job] = rasterize_outline(outline);
       } else {
         std::vector<Vec2> points(t.uv.size());
         for (size_t v = 0; v < points.size(); ++v) points[v] = local_texel(t, static_cast<int>(v), scale);
+        if (!fits(points)) { too_big[job] = 1; masks[job] = {}; continue; }
         masks[job] = rasterize_segments(points, *charts[i].boundary);
       }
     }
@@ -220,6 +232,7 @@ RasterPackResult raster_pack(std::vector<PackChart>& charts, int texture_size, d
       double best_score = INFINITY;
       Spot best_spot;
       for (int k = 0; k < options.angles; ++k) {
+        if (too_big[static_cast<size_t>(i) * options.angles + k]) continue;
         const RowMask& m = masks[static_cast<size_t>(i) * options.angles + k];
         const double slack = best_score - height_weight * m.height;
         const int y_limit = std::isinf(best_score) ? occ.height() : static_cast<int>(std::ceil(slack)) - 1;
@@ -253,7 +266,19 @@ RasterPackResult raster_pack(std::vector<PackChart>& charts, int texture_size, d
   // larger one): `found` is the largest scale any variant fit, `hi` the
   // smallest this variant did not. A variant after the first only has to
   // beat `found` and gets a few packings.
-  const double full = side / std::sqrt(total_area);  // 100% of the usable square
+  double full = side / std::sqrt(total_area);  // 100% of the usable square
+  // No scale above the one where some chart, in its best turn, is wider
+  // than the square or taller than the strip (a needle: its area says
+  // nothing of its length, and shrinking by 3 % a packing would not reach).
+  for (int i = 0; i < n; ++i) {
+    double least = INFINITY;
+    for (const Turn& t : turns[i]) {
+      double w = 0, h = 0;
+      for (const Vec2& p : t.uv) w = std::max(w, p.x - t.lo.x), h = std::max(h, p.y - t.lo.y);
+      least = std::min(least, std::max(w, h / 2));
+    }
+    if (least > 0) full = std::min(full, side / least);
+  }
   double found = 0;
   auto search = [&](const std::vector<int>& order, double height_weight, double start, int packings) {
     const double lower = std::max(found, scale_to_beat);

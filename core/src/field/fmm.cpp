@@ -62,10 +62,21 @@ void Fmm::build_source_tree() {
   const size_t n = src_.size();
   order_.resize(n);
   for (size_t i = 0; i < n; ++i) order_[i] = static_cast<uint32_t>(i);
-  Box3 box;
-  for (size_t i = 0; i < n; ++i) box.add(src_.centroid[i]);
+  Box3 box, vertices;
+  for (size_t i = 0; i < n; ++i) {
+    box.add(src_.centroid[i]);
+    vertices.add(src_.a[i]), vertices.add(src_.b[i]), vertices.add(src_.c[i]);
+  }
   if (box.empty()) box.add({0, 0, 0});
   Vec3 ext = box.extent();
+  // Centroids that (nearly) coincide, as for a single triangle, would give a
+  // root of no size, and target cells would split toward it without end
+  // (out of memory on a one-triangle soup): then the triangles' own box.
+  const Vec3 vext = vertices.empty() ? Vec3{0, 0, 0} : vertices.extent();
+  if (std::max({ext.x, ext.y, ext.z}) < 1e-3 * std::max({vext.x, vext.y, vext.z})) {
+    box = vertices;
+    ext = vext;
+  }
   double half = 0.5 * std::max({ext.x, ext.y, ext.z, 1e-12}) * 1.0001;
   scells_.push_back({box.center(), half, {}, 0, 0, static_cast<int>(n), -1, 0, 0});
   // Breadth-first: children of a cell are created contiguously.

@@ -171,5 +171,25 @@ TEST(RasterPack, KeepsUvsWhenItCannotBeat) {
   EXPECT_EQ(uv[1].x, 1.0);
 }
 
+TEST(RasterPack, PacksANeedleInsteadOfRunningOutOfMemory) {
+  // Two triangles of a strip 2^31 units long and 1 wide (the glTF sample
+  // ZeroLengthBufferView): at the scale its area suggests it is millions
+  // of texels long; the packer must shrink to where it fits, not rasterise it.
+  const double length = 2147483648.0;
+  std::vector<Vec2> uv = {{0, 0}, {length, 0}, {length, 1}, {0, 1}};
+  std::vector<std::array<int, 3>> tri = {{0, 1, 2}, {0, 2, 3}};
+  std::vector<int> outline = {0, 1, 2, 3};
+  std::vector<PackChart> charts = {{&uv, &tri, &outline}};
+  RasterPackResult r = raster_pack(charts, 256, 2, 0, {});
+  ASSERT_GT(r.scale, 0);
+  EXPECT_LE(r.scale * length, 256.0 * std::sqrt(2.0));  // turned along the diagonal at most
+  for (const Vec2& p : uv) {
+    EXPECT_GE(p.x, 0.0);
+    EXPECT_LE(p.x, 1.0);
+    EXPECT_GE(p.y, 0.0);
+    EXPECT_LE(p.y, 1.0);
+  }
+}
+
 }  // namespace
 }  // namespace soupuv::atlas

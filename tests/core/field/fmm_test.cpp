@@ -81,6 +81,30 @@ std::pair<double, double> fmm_error(const Case& c, int p, double theta) {
   }
   return {max_phi / scale_phi, max_e / scale_e};
 }
+TEST(Fmm, OneTriangleBuildsASmallTreeAndMatchesDirectSum) {
+  // One triangle: the centroids' box has no size. The tree must still
+  // end (it once split toward the point until memory ran out).
+  const std::vector<Vec3> positions = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}};
+  const std::vector<Tri> triangles = {{0, 1, 2}};
+  const SourceGeometry src = make_sources(positions, triangles, 4);
+  Box3 region;
+  region.add({-3, -3, -3});
+  region.add({3, 3, 3});
+  Fmm fmm(src, FmmOptions{8, 0.5, 16, 0}, region);
+  fmm.set_charges({1.0});
+  EXPECT_LT(fmm.stats().target_cells, 100000u);
+  const std::vector<Vec3> targets = {{2, 2, 2}, {0.3, 0.3, 0.5}, {-2, 1, -1}};
+  std::vector<double> phi;
+  std::vector<Vec3> E;
+  direct_sum(src, {1.0}, targets, &phi, &E);
+  for (size_t i = 0; i < targets.size(); ++i) {
+    double p = 0;
+    Vec3 e{0, 0, 0};
+    fmm.evaluate(targets[i], &p, &e);
+    EXPECT_NEAR(p, phi[i], 1e-6 * std::fabs(phi[i])) << "target " << i;
+  }
+}
+
 }  // namespace
 
 TEST(Fmm, ErrorShrinksWithOrder) {
