@@ -18,7 +18,7 @@ namespace {
 const char* kHelp = R"(soupuv — texture mapping for triangle soups
 
 Usage:
-  soupuv inspect IN
+  soupuv inspect IN [--no-external-files]
       Prints JSON about IN (glTF, GLB or Draco): triangles, parts (meshes,
       primitives, nodes, instances, materials), bounding box, vertex sharing
       (is it a soup?), dropped degenerate triangles, warnings.
@@ -36,7 +36,9 @@ Usage:
       --texture-size N       size of the generated UV-check texture (default 1024)
       --draco                KHR_draco_mesh_compression output (lossless)
       --normals              also write flat per-triangle NORMALs
-      --allow-external-uris  let a local .gltf read buffers from files beside it
+      --no-external-files    refuse a .gltf's buffers and images in files (by
+                             default they are read from the .gltf's folder or
+                             below it; never URLs, absolute paths or '..')
       --progress bar|json|none
                              bar: a progress bar when stderr is a terminal
                              (default); json: one {"stage":..,"fraction":..}

@@ -19,7 +19,8 @@ namespace {
 struct MapArgs {
   std::string input, output, diagnostics, method = kDefaultMethod, texture;
   int texture_size = 1024;
-  bool draco = false, normals = false, allow_external_uris = false;
+  bool draco = false, normals = false;
+  bool external_files = true;  // a .gltf's .bin and images beside it (--no-external-files: off)
   ProgressMode progress = ProgressMode::bar;
   MethodFlags method_flags;  // the UV methods' own options (uv_method.h)
 };
@@ -46,7 +47,7 @@ MapArgs parse(const std::vector<std::string>& args) {
     }
     else if (a == "--draco") m.draco = true;
     else if (a == "--normals") m.normals = true;
-    else if (a == "--allow-external-uris") m.allow_external_uris = true;
+    else if (a == "--no-external-files") m.external_files = false;
     else if (a == "--progress") m.progress = parse_progress_mode(value());
     else if (parse_method_flag(args, i, m.method_flags)) continue;
     else if (!a.empty() && a[0] == '-') throw UsageError{"map: unknown option " + a};
@@ -84,7 +85,7 @@ int run_map(const std::vector<std::string>& args) {
   auto start = std::chrono::steady_clock::now();
   progress.update("load", 0.0);
   io::LoadOptions load_options;
-  load_options.allow_external_uris = m.allow_external_uris;
+  load_options.allow_external_uris = m.external_files;
   io::Asset asset = io::load_file(m.input, load_options);
   stages["load"]["seconds"] = seconds_since(start);
   progress.update("load", 1.0);
@@ -127,7 +128,7 @@ int run_map(const std::vector<std::string>& args) {
     d["output"] = {{"file", m.output}, {"bytes", written.glb.size()},
                    {"meshes", written.meshes}, {"primitives", written.primitives},
                    {"vertices", written.vertices}, {"triangles", written.triangles},
-                   {"draco", m.draco}, {"normals", m.normals},
+                   {"draco", m.draco}, {"normals", m.normals}, {"attributes", written.attributes},
                    {"texture", {{"source", m.texture.empty() ? "uv_check" : "user"},
                                 {"mime_type", write_options.texture ? write_options.texture->mime_type : "image/png"}}}};
     d["warnings"] = warnings;
