@@ -33,7 +33,13 @@ Usage:
       --diagnostics OUT.json diagnostics (proto/diagnostics.schema.json)
       --texture IMG          embed this PNG/JPEG as baseColorTexture instead of
                              the generated UV-check texture
-      --texture-size N       size of the generated UV-check texture (default 1024)
+      --texture-size N       size of the generated texture (UV check or re-bake;
+                             default 1024)
+      --rebake               fill the texture with the input's base colour (its
+                             texture through its old UVs, or vertex colours)
+                             at the same surface points; the default when the
+                             input has a base-colour texture or vertex colours
+      --no-rebake            the UV-check texture even then
       --draco                KHR_draco_mesh_compression output (lossless)
       --normals              also write flat per-triangle NORMALs
       --no-external-files    refuse a .gltf's buffers and images in files (by
