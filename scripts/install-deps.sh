@@ -1,25 +1,29 @@
 #!/usr/bin/env bash
 # Installs every Debian package soupuv needs to build, test and run. Idempotent:
 # packages already present are skipped, so a second run costs one dpkg query.
-#   SOUPUV_DEPS=build  only what building the binaries needs (the Docker build
-#                      stage: no test frameworks, browsers or web servers)
+#   SOUPUV_DEPS=build  only what building and running the service needs
+#                      (scripts/run.sh, the Docker build stage: no test
+#                      frameworks, browsers, web servers or clang)
 #   --print            list the packages and exit, installing nothing
 set -euo pipefail
 
+# Build and run: compilers and CMake, the libraries the binaries link, and
+# Node.js + npm for the upload page's three.js (npm ci --omit=dev).
 build_packages=(
   build-essential cmake ninja-build ccache pkg-config git
   libcpp-httplib-dev nlohmann-json3-dev libtinygltf-dev libstb-dev libdraco-dev
   libeigen3-dev libcgal-dev libgmp-dev libmpfr-dev libboost-dev
-  libspdlog-dev libfmt-dev libsqlite3-dev libssl-dev
+  libspdlog-dev libfmt-dev libsqlite3-dev libssl-dev libzip-dev
 )
 # Tests only: GoogleTest, clang + libFuzzer and OpenMP for it (fuzz target),
 # chromium (browser test), nginx (reverse-proxy test), curl, python3-yaml
 # (deploy-file checks), python3-numpy + python3-scipy (cli.field.metrics_agree runs
-# ../shared/eval/uvmetrics.py).
+# ../shared/eval/uvmetrics.py), python3 (the Python client's tests), zip
+# (folder-upload tests).
 test_packages=(
   libgtest-dev libgmock-dev
   clang libclang-rt-14-dev libomp-dev
-  chromium nginx-light curl python3-yaml python3-numpy python3-scipy
+  chromium nginx-light curl python3 python3-yaml python3-numpy python3-scipy zip
 )
 packages=("${build_packages[@]}")
 [ "${SOUPUV_DEPS:-all}" = build ] || packages+=("${test_packages[@]}")

@@ -21,6 +21,10 @@ const args = Object.fromEntries(process.argv.slice(2).reduce((acc, a, i, all) =>
 for (const k of ['server', 'worker', 'sample', 'out']) {
   if (!args[k]) { console.error(`missing --${k}`); process.exit(2); }
 }
+if (!fs.existsSync(args.sample)) {
+  console.log(`SKIPPED: the sample ${args.sample} is absent (no ../shared/data)`);
+  process.exit(77);
+}
 fs.mkdirSync(args.out, { recursive: true });
 const dataDir = fs.mkdtempSync(path.join(args.out, 'data-'));
 const profile = fs.mkdtempSync(path.join(args.out, 'profile-'));
