@@ -300,7 +300,15 @@ bool Scheduler::run_job(const std::string& id) {
   // only work/ (its scratch directory and cwd) and the shared field cache.
   SandboxPaths paths;
   paths.program = worker_bin_;
+  // A folder upload (model/...): the model and every file beside or below it.
   paths.read_files.push_back((dir / job->input_file).string());
+  if (job->input_file.rfind("model/", 0) == 0) {
+    std::error_code ec;
+    for (auto it = fs::recursive_directory_iterator(dir / "model", ec); !ec && it != fs::recursive_directory_iterator();
+         it.increment(ec))
+      if (it->is_regular_file(ec) && !it->is_symlink(ec) && it->path() != dir / job->input_file)
+        paths.read_files.push_back(it->path().string());
+  }
   for (const char* tex : {"texture.png", "texture.jpg"})
     if (fs::exists(dir / tex)) {
       add("--texture", (dir / tex).string());

@@ -10,7 +10,7 @@
 #include <filesystem>
 #include <string>
 
-namespace soupuv::test {
+namespace soupuv_test {
 
 inline constexpr int kSkipExitCode = 77;
 
@@ -26,4 +26,4 @@ inline std::string shared_data_dir() {
   return dir;
 }
 
-}  // namespace soupuv::test
+}  // namespace soupuv_test

@@ -87,7 +87,7 @@ Errors compare(const io::Asset& asset, const std::vector<Vec2>& uvs, const bake:
 }
 
 void check_sample(const char* name) {
-  const std::string path = soupuv::test::shared_data_dir() + "/gltf/" + name;
+  const std::string path = soupuv_test::shared_data_dir() + "/gltf/" + name;
   if (!std::filesystem::exists(path)) GTEST_SKIP() << "needs ../shared/data (" << path << " absent)";
   io::Asset asset = io::load_file(path);
   ASSERT_TRUE(bake::has_base_color(asset));

@@ -15,7 +15,7 @@
 namespace soupuv::io::test {
 
 inline std::string data_path(const std::string& relative) {
-  return soupuv::test::shared_data_dir() + "/" + relative;
+  return soupuv_test::shared_data_dir() + "/" + relative;
 }
 
 inline std::vector<uint8_t> read_bytes(const std::string& path) {

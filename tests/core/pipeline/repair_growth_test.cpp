@@ -16,7 +16,7 @@ using namespace soupuv::testing;
 TEST(RepairGrowth, FoxLegsAreLessStretched) {
   io::LoadOptions lo;
   lo.allow_external_uris = true;
-  const Soup fox = io::load_file(soupuv::test::shared_data_dir() + "/gltf/Fox/Fox.gltf", lo).soup;
+  const Soup fox = io::load_file(soupuv_test::shared_data_dir() + "/gltf/Fox/Fox.gltf", lo).soup;
   MapOptions o = fast_options();
   o.soup_uv_solve = false;  // the repair is the previous UV chain's
   MapOptions once = o;
@@ -37,7 +37,7 @@ TEST(RepairGrowth, FoxLegsAreLessStretched) {
 TEST(RepairGrowth, SizeBoundStopsTheGrowth) {
   io::LoadOptions lo;
   lo.allow_external_uris = true;
-  const Soup fox = io::load_file(soupuv::test::shared_data_dir() + "/gltf/Fox/Fox.gltf", lo).soup;
+  const Soup fox = io::load_file(soupuv_test::shared_data_dir() + "/gltf/Fox/Fox.gltf", lo).soup;
   MapOptions o = fast_options();
   o.soup_uv_solve = false;  // the repair is the previous UV chain's
   const MapResult grown = run_map(fox, o);

@@ -20,7 +20,7 @@ namespace {
 class SharedSoup : public ::testing::TestWithParam<const char*> {};
 
 TEST_P(SharedSoup, AutomaticProxyIsOneEnclosingShell) {
-  std::string path = soupuv::test::shared_data_dir() + "/soups/" + GetParam() + "-soup.glb";
+  std::string path = soupuv_test::shared_data_dir() + "/soups/" + GetParam() + "-soup.glb";
   ASSERT_TRUE(std::filesystem::exists(path)) << path;
   Soup soup = io::load_file(path).soup;
   ASSERT_GT(soup.triangles.size(), 0u);
@@ -76,7 +76,7 @@ std::vector<std::string> capped_files() {
 }
 
 Soup load_sample(const std::string& name) {
-  std::string path = soupuv::test::shared_data_dir() + "/" + name;
+  std::string path = soupuv_test::shared_data_dir() + "/" + name;
   io::LoadOptions load;
   load.allow_external_uris = true;
   load.base_dir = std::filesystem::path(path).parent_path().string();
@@ -93,7 +93,7 @@ std::string test_name(const ::testing::TestParamInfo<std::string>& info) {
 class SharedMesh : public ::testing::TestWithParam<std::string> {};
 
 TEST(SharedMeshList, HoldsTheSamplesTheIssueNames) {
-  soupuv::test::shared_data_dir();  // skips without the data
+  soupuv_test::shared_data_dir();  // skips without the data
   auto files = sample_files();
   for (const char* name : {"gltf/Box.glb", "gltf/Duck.glb", "gltf/CesiumMan.glb", "gltf/Fox/Fox.gltf",
                            "gltf/CubeScaledInstances/cube_att.gltf",
