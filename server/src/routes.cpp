@@ -51,6 +51,7 @@ const std::vector<RouteInfo>& api_routes() {
 namespace {
 
 constexpr int64_t kMaxParamsBytes = 64 << 10;
+constexpr size_t kMaxMetadataBytes = 4096;  // a job's opaque metadata object, as compact JSON
 const char* const kJobIdPattern = "(j[a-z2-7]{26})";
 
 int retry_after_seconds(const ServerContext& ctx) {
@@ -460,8 +461,34 @@ void submit_job(ServerContext& ctx, const httplib::Request& req, httplib::Respon
     if (!p.is_object()) return set_problem(res, 400, "invalid-params", "the params part must be a JSON object");
     for (auto it = p.begin(); it != p.end(); ++it) raw_params[it.key()] = it.value();
   }
+  // The caller's own fields, stored in params (every job store persists
+  // params) but never turned into worker flags: an opaque metadata object
+  // and the job-end callback URL.
+  nlohmann::json own = nlohmann::json::object();
+  for (const char* key : {"metadata", "callback_url"}) {
+    if (!raw_params.contains(key)) continue;
+    own[key] = raw_params[key];
+    raw_params.erase(key);
+  }
+  if (own.contains("metadata")) {
+    nlohmann::json& m = own["metadata"];
+    if (m.is_string()) m = nlohmann::json::parse(m.get<std::string>(), nullptr, false);  // from a query string
+    if (!m.is_object()) return set_problem(res, 400, "invalid-params", "metadata must be a JSON object");
+    if (m.dump().size() > kMaxMetadataBytes)
+      return set_problem(res, 413, "metadata-too-large",
+                         "metadata is " + std::to_string(m.dump().size()) + " bytes as JSON, more than " +
+                             std::to_string(kMaxMetadataBytes));
+  }
+  if (own.contains("callback_url")) {
+    if (!own["callback_url"].is_string()) return set_problem(res, 400, "invalid-params", "callback_url must be a string");
+    if (auto why = check_callback_url(own["callback_url"].get<std::string>()); !why.empty())
+      return set_problem(res, 400, "invalid-params", why);
+    if (!ctx.callbacks)
+      return set_problem(res, 400, "invalid-params", "this server sends no callbacks (it has no --callback-secret)");
+  }
   nlohmann::json params;
   if (auto e = validate_params(raw_params, ctx.caps, params)) return set_problem(res, 400, "invalid-params", e.detail);
+  for (auto it = own.begin(); it != own.end(); ++it) params[it.key()] = it.value();
   hasher.add(std::string_view(params.dump()));
 
   const fs::path model = tmp / input_file;

@@ -166,6 +166,7 @@ bool Scheduler::cancel(const std::string& id) {
       queue_.erase(it);
       store_.finish(id, JobState::canceled, std::nullopt, {}, now_seconds());
       metrics_.job_finished("canceled");
+      if (on_finish_) on_finish_(id);
       return true;
     }
   auto r = running_.find(id);
@@ -229,8 +230,10 @@ void Scheduler::worker_loop() {
       if (store_write("finish", [&] {
             store_.finish(id, JobState::failed, JobError{"internal", 500, "server error while running the job"},
                           {}, now_seconds());
-          }))
+          })) {
         metrics_.job_finished("failed");
+        if (on_finish_) on_finish_(id);
+      }
       remove_work_dir(id);
     }
     std::lock_guard lock(mu_);
@@ -253,8 +256,10 @@ bool Scheduler::run_job(const std::string& id) {
     cancel = running_[id];
   }
   if (job->cancel_requested) {
-    if (store_write("finish", [&] { store_.finish(id, JobState::canceled, std::nullopt, {}, now_seconds()); }))
+    if (store_write("finish", [&] { store_.finish(id, JobState::canceled, std::nullopt, {}, now_seconds()); })) {
       metrics_.job_finished("canceled");
+      if (on_finish_) on_finish_(id);
+    }
     return false;
   }
   // A worker binary being replaced (upgrade, rebuild) is briefly missing: wait
@@ -437,6 +442,7 @@ bool Scheduler::run_job(const std::string& id) {
   if (!store_write("finish", [&] { store_.finish(id, verdict.state, verdict.error, outputs, now_seconds()); }))
     return false;
   metrics_.job_finished(to_string(verdict.state));
+  if (on_finish_) on_finish_(id);
   nlohmann::json fields = {{"job", id}, {"state", to_string(verdict.state)}, {"seconds", outcome.seconds},
                            {"stage_seconds", stage_seconds}};
   if (verdict.error) fields["error"] = verdict.error->detail;

@@ -65,6 +65,10 @@ struct Config {
   // refused (503 + Retry-After) and /readyz reports not ready.
   int64_t min_free_mb = 512;
   bool validate_uploads = true;         // run `soupuv inspect` before queueing
+  // Job-end callbacks (callbacks.h): the HMAC key (empty: callback_url is
+  // refused), and whether loopback/private targets are allowed (tests, LANs).
+  std::string callback_secret;
+  bool callback_allow_private = false;
   std::string log_level = "info";
 
   int threads_per_job() const;
