@@ -18,12 +18,11 @@ build_packages=(
 # Tests only: GoogleTest, clang + libFuzzer and OpenMP for it (fuzz target),
 # chromium (browser test), nginx (reverse-proxy test), curl, python3-yaml
 # (deploy-file checks), python3-numpy + python3-scipy (cli.field.metrics_agree runs
-# ../shared/eval/uvmetrics.py), python3 (the Python client's tests), zip
-# (folder-upload tests).
+# ../shared/eval/uvmetrics.py), python3 (the Python client's tests).
 test_packages=(
   libgtest-dev libgmock-dev
   clang libclang-rt-14-dev libomp-dev
-  chromium nginx-light curl python3 python3-yaml python3-numpy python3-scipy zip
+  chromium nginx-light curl python3 python3-yaml python3-numpy python3-scipy
 )
 packages=("${build_packages[@]}")
 [ "${SOUPUV_DEPS:-all}" = build ] || packages+=("${test_packages[@]}")
