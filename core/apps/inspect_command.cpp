@@ -41,9 +41,9 @@ nlohmann::json parts(const io::Asset& asset) {
 
 int run_inspect(const std::vector<std::string>& args) {
   std::string input;
-  bool allow_external = false;
+  bool allow_external = true;  // like map: files beside a .gltf are read
   for (const std::string& a : args) {
-    if (a == "--allow-external-uris") allow_external = true;
+    if (a == "--no-external-files") allow_external = false;
     else if (!a.empty() && a[0] == '-') throw UsageError{"inspect: unknown option " + a};
     else if (input.empty()) input = a;
     else throw UsageError{"inspect takes one input file"};

@@ -18,7 +18,7 @@ namespace {
 const char* kHelp = R"(soupuv — texture mapping for triangle soups
 
 Usage:
-  soupuv inspect IN
+  soupuv inspect IN [--no-external-files]
       Prints JSON about IN (glTF, GLB or Draco): triangles, parts (meshes,
       primitives, nodes, instances, materials), bounding box, vertex sharing
       (is it a soup?), dropped degenerate triangles, warnings.
@@ -33,10 +33,18 @@ Usage:
       --diagnostics OUT.json diagnostics (proto/diagnostics.schema.json)
       --texture IMG          embed this PNG/JPEG as baseColorTexture instead of
                              the generated UV-check texture
-      --texture-size N       size of the generated UV-check texture (default 1024)
+      --texture-size N       size of the generated texture (UV check or re-bake;
+                             default 1024)
+      --rebake               fill the texture with the input's base colour (its
+                             texture through its old UVs, or vertex colours)
+                             at the same surface points; the default when the
+                             input has a base-colour texture or vertex colours
+      --no-rebake            the UV-check texture even then
       --draco                KHR_draco_mesh_compression output (lossless)
       --normals              also write flat per-triangle NORMALs
-      --allow-external-uris  let a local .gltf read buffers from files beside it
+      --no-external-files    refuse a .gltf's buffers and images in files (by
+                             default they are read from the .gltf's folder or
+                             below it; never URLs, absolute paths or '..')
       --progress bar|json|none
                              bar: a progress bar when stderr is a terminal
                              (default); json: one {"stage":..,"fraction":..}

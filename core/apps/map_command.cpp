@@ -8,6 +8,7 @@
 
 #include "cli.h"
 #include "progress_report.h"
+#include "soupuv/bake/rebake.h"
 #include "soupuv/io/load.h"
 #include "soupuv/io/write.h"
 #include "uv_method.h"
@@ -19,7 +20,9 @@ namespace {
 struct MapArgs {
   std::string input, output, diagnostics, method = kDefaultMethod, texture;
   int texture_size = 1024;
-  bool draco = false, normals = false, allow_external_uris = false;
+  bool draco = false, normals = false;
+  bool external_files = true;  // a .gltf's .bin and images beside it (--no-external-files: off)
+  std::optional<bool> rebake;  // --rebake / --no-rebake; unset: when the input has a base colour
   ProgressMode progress = ProgressMode::bar;
   MethodFlags method_flags;  // the UV methods' own options (uv_method.h)
 };
@@ -46,7 +49,9 @@ MapArgs parse(const std::vector<std::string>& args) {
     }
     else if (a == "--draco") m.draco = true;
     else if (a == "--normals") m.normals = true;
-    else if (a == "--allow-external-uris") m.allow_external_uris = true;
+    else if (a == "--no-external-files") m.external_files = false;
+    else if (a == "--rebake") m.rebake = true;
+    else if (a == "--no-rebake") m.rebake = false;
     else if (a == "--progress") m.progress = parse_progress_mode(value());
     else if (parse_method_flag(args, i, m.method_flags)) continue;
     else if (!a.empty() && a[0] == '-') throw UsageError{"map: unknown option " + a};
@@ -84,7 +89,7 @@ int run_map(const std::vector<std::string>& args) {
   auto start = std::chrono::steady_clock::now();
   progress.update("load", 0.0);
   io::LoadOptions load_options;
-  load_options.allow_external_uris = m.allow_external_uris;
+  load_options.allow_external_uris = m.external_files;
   io::Asset asset = io::load_file(m.input, load_options);
   stages["load"]["seconds"] = seconds_since(start);
   progress.update("load", 1.0);
@@ -100,6 +105,17 @@ int run_map(const std::vector<std::string>& args) {
 
   start = std::chrono::steady_clock::now();
   progress.update("write", 0.0);
+  // The input's base colour carried onto the new map (soupuv/bake/rebake.h);
+  // a user --texture wins over it.
+  std::optional<bake::RebakeResult> baked;
+  const bool rebake = m.texture.empty() && m.rebake.value_or(bake::has_base_color(asset));
+  if (m.rebake.value_or(false) && !m.texture.empty()) throw UsageError{"--rebake and --texture exclude each other"};
+  if (rebake) {
+    baked = bake::rebake(asset, run.corner_uvs, {.size = m.texture_size, .padding = 4});
+    write_options.texture = baked->texture;
+    write_options.texture_name = "soupuv re-baked base colour";
+    write_options.keep_colors = !baked->baked_colors;
+  }
   io::WriteResult written = io::write_glb(asset, run.corner_uvs, write_options);
   progress.check_canceled();
   write_file_atomically(m.output, written.glb.data(), written.glb.size());
@@ -111,6 +127,7 @@ int run_map(const std::vector<std::string>& args) {
   std::vector<std::string> warnings = asset.soup.warnings;
   if (run.diagnostics.contains("warnings") && run.diagnostics["warnings"].is_array())
     warnings = run.diagnostics["warnings"].get<std::vector<std::string>>();
+  if (baked) warnings.insert(warnings.end(), baked->warnings.begin(), baked->warnings.end());
   warnings.insert(warnings.end(), written.warnings.begin(), written.warnings.end());
 
   if (!m.diagnostics.empty()) {
@@ -127,9 +144,10 @@ int run_map(const std::vector<std::string>& args) {
     d["output"] = {{"file", m.output}, {"bytes", written.glb.size()},
                    {"meshes", written.meshes}, {"primitives", written.primitives},
                    {"vertices", written.vertices}, {"triangles", written.triangles},
-                   {"draco", m.draco}, {"normals", m.normals},
-                   {"texture", {{"source", m.texture.empty() ? "uv_check" : "user"},
+                   {"draco", m.draco}, {"normals", m.normals}, {"attributes", written.attributes},
+                   {"texture", {{"source", baked ? "rebake" : m.texture.empty() ? "uv_check" : "user"},
                                 {"mime_type", write_options.texture ? write_options.texture->mime_type : "image/png"}}}};
+    if (baked) d["output"]["rebake"] = baked->diagnostics();
     d["warnings"] = warnings;
     std::string text = d.dump(2) + "\n";
     write_file_atomically(m.diagnostics, text.data(), text.size());

@@ -98,6 +98,15 @@ App::App(Config config) {
 
   ctx_.scheduler = std::make_unique<Scheduler>(ctx_.config, ctx_.worker_bin, ctx_.caps, *ctx_.store,
                                                *ctx_.data, ctx_.metrics, *ctx_.blobs, ctx_.queue, ctx_.node_id);
+  // Job-end callbacks: the finished job's JSON to its params.callback_url.
+  if (!c.callback_secret.empty()) {
+    ctx_.callbacks = std::make_unique<CallbackSender>(c.callback_secret, c.callback_allow_private);
+    ctx_.scheduler->set_on_finish([this](const std::string& id) {
+      auto job = ctx_.store->get(id);
+      if (job && job->params.contains("callback_url") && job->params["callback_url"].is_string())
+        ctx_.callbacks->post(job->params["callback_url"].get<std::string>(), to_json(*job));
+    });
+  }
   // Hardening: read/write timeouts for bodies and answers (heads are the
   // connection gate's, below), a body cap in httplib itself as a second line
   // behind the Content-Length guard.

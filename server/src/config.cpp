@@ -111,6 +111,10 @@ const std::vector<Option>& options() {
        [](Config& c, const std::string& v) { c.max_uploads = int(parse_int("max-uploads", v, 1, 1024)); }},
       {"min-free-mb", "free space the data directory keeps; below it uploads get 503 and /readyz fails (default 512)",
        [](Config& c, const std::string& v) { c.min_free_mb = parse_int("min-free-mb", v, 0, int64_t(1) << 40); }},
+      {"callback-secret", "HMAC-SHA256 key signing job-end callbacks (Soupuv-Signature); without it callback_url is refused",
+       [](Config& c, const std::string& v) { c.callback_secret = v; }},
+      {"callback-allow-private", "let callback_url reach loopback, private and link-local addresses (default false)",
+       [](Config& c, const std::string& v) { c.callback_allow_private = parse_bool("callback-allow-private", v); }},
       {"validate-uploads", "check each upload with `soupuv inspect` before queueing (default true)",
        [](Config& c, const std::string& v) { c.validate_uploads = parse_bool("validate-uploads", v); }},
       {"database-url", "postgresql://USER:PASSWORD@HOST:PORT/DB: jobs, queue, inputs and results in PostgreSQL, "

@@ -17,7 +17,7 @@ std::string media_type(const std::string& v) {
 
 bool is_accepted_upload_type(const std::string& m) {
   return m == "model/gltf-binary" || m == "model/gltf+json" || m == "application/octet-stream" ||
-         m == "multipart/form-data";
+         m == "multipart/form-data" || m == "application/zip";
 }
 
 std::optional<Rejection> check_request_headers(const httplib::Request& req, int64_t max_upload_bytes) {
@@ -54,7 +54,7 @@ std::optional<Rejection> check_request_headers(const httplib::Request& req, int6
     if (!is_accepted_upload_type(m))
       return Rejection{415, "unsupported-media-type",
                        "Content-Type must be model/gltf-binary, model/gltf+json, application/octet-stream "
-                       "(Draco) or multipart/form-data"};
+                       "(Draco), application/zip (a model's folder) or multipart/form-data"};
   }
   return std::nullopt;
 }

@@ -53,6 +53,8 @@ nlohmann::json to_json(const Job& job) {
   }
   j["stage_seconds"] = job.stage_seconds;
   j["params"] = job.params;
+  // The caller's metadata, also at the top level where an integrator looks for it.
+  if (job.params.contains("metadata")) j["metadata"] = job.params["metadata"];
   j["input"] = {{"content_type", job.content_type}, {"bytes", job.input_bytes}};
   j["attempts"] = job.attempts;
   if (job.error)

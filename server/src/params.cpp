@@ -37,6 +37,9 @@ const std::vector<ParamSpec>& specs() {
       {"texture_size", "--texture-size", Kind::integer, nullptr, 64, 4096, {}, true},
       {"padding", "--padding", Kind::integer, nullptr, 0, 256},
       {"draco", "--draco", Kind::boolean, false},
+      // The input's base colour re-baked onto the new map; unset: the CLI's
+      // default (on when the input has a base-colour texture or vertex colours).
+      {"rebake", "--rebake", Kind::boolean, nullptr},
       // Special: the scheduler passes --debug-prefix inside the job's work directory.
       {"debug_outputs", "--debug-prefix", Kind::boolean, false},
       // Special: the scheduler writes the polylines to a file in the job's work
@@ -167,7 +170,8 @@ std::vector<std::string> params_to_flags(const nlohmann::json& params, const Wor
     if (!params.contains(s.name) || !caps.has(s.flag)) continue;
     const auto& v = params.at(s.name);
     if (s.kind == Kind::boolean) {
-      if (v.get<bool>() && std::string(s.name) != "debug_outputs") flags.push_back(s.flag);
+      if (std::string(s.name) == "rebake") flags.push_back(v.get<bool>() ? "--rebake" : "--no-rebake");
+      else if (v.get<bool>() && std::string(s.name) != "debug_outputs") flags.push_back(s.flag);
       continue;
     }
     if (s.kind == Kind::polylines) continue;  // a file, written by the scheduler

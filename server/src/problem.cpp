@@ -36,9 +36,13 @@ const std::vector<ProblemType>& problem_types() {
       {"insufficient-storage", "Insufficient storage",
        "The server is low on disk space and refuses uploads for now; retry after Retry-After seconds."},
       {"internal", "Internal error", "The server failed; the error is logged. Retrying may help."},
-      {"invalid-form", "Invalid form", "The multipart body needs one 'file' part (.glb, .gltf or .drc) and may have "
-                                       "'params' (JSON) and 'texture' (PNG or JPEG) parts."},
+      {"invalid-form", "Invalid form", "The multipart body needs one 'file' part (.glb, .gltf, .drc or a .zip of the "
+                                       "folder) and may have 'files' (the files a .gltf names), 'params' (JSON) and "
+                                       "'texture' (PNG or JPEG) parts."},
       {"invalid-params", "Invalid parameters", "A parameter is unknown, of the wrong type or out of range; see GET /v1/params."},
+      {"invalid-zip", "Invalid zip", "The zip of a model's folder is unreadable, holds no model or several, or an entry "
+                                     "is refused (a path leaving the folder, a symbolic link, too many entries)."},
+      {"metadata-too-large", "Metadata too large", "A job's metadata object may take at most 4096 bytes as compact JSON."},
       {"invalid-query", "Invalid query", "A query parameter of the list is invalid (state, limit, cursor)."},
       {"invalid-token", "Invalid token", "The bearer token is not accepted (unknown or revoked)."},
       {"unauthorized", "Unauthorized", "This server needs Authorization: Bearer <token>."},

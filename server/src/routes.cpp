@@ -20,6 +20,7 @@
 #include "soupuv/server/sandbox.h"
 #include "soupuv/server/storage.h"
 #include "soupuv/server/upload_check.h"
+#include "soupuv/server/upload_folder.h"
 #include "soupuv/server/worker_process.h"
 
 namespace soupuv::server {
@@ -50,6 +51,7 @@ const std::vector<RouteInfo>& api_routes() {
 namespace {
 
 constexpr int64_t kMaxParamsBytes = 64 << 10;
+constexpr size_t kMaxMetadataBytes = 4096;  // a job's opaque metadata object, as compact JSON
 const char* const kJobIdPattern = "(j[a-z2-7]{26})";
 
 int retry_after_seconds(const ServerContext& ctx) {
@@ -169,9 +171,21 @@ struct ValidationSlot {
   ~ValidationSlot() { --n; }
 };
 
+// The files a worker may read for `model`: the model alone, or, for a folder
+// upload, every regular file under `folder` (which holds the model).
+std::vector<std::string> model_files(const fs::path& model, const fs::path& folder) {
+  std::vector<std::string> files = {model.string()};
+  std::error_code ec;
+  if (folder.empty() || !fs::is_directory(folder, ec)) return files;
+  for (auto it = fs::recursive_directory_iterator(folder, ec); !ec && it != fs::recursive_directory_iterator();
+       it.increment(ec))
+    if (it->is_regular_file(ec) && !it->is_symlink(ec) && it->path() != model) files.push_back(it->path().string());
+  return files;
+}
+
 // Runs `soupuv inspect` on the upload in a child process (never in the server:
 // a hostile file may crash a parser) and turns a refusal into a problem.
-std::optional<Rejection> inspect_upload(ServerContext& ctx, const fs::path& file) {
+std::optional<Rejection> inspect_upload(ServerContext& ctx, const fs::path& file, const fs::path& folder) {
   if (!ctx.config.validate_uploads || !ctx.caps.has_inspect) return std::nullopt;
   // Bound concurrent inspections so uploads cannot starve the workers' cores.
   int limit = std::max(1, ctx.config.workers);
@@ -188,7 +202,7 @@ std::optional<Rejection> inspect_upload(ServerContext& ctx, const fs::path& file
   // scratch directory is the upload's own temp directory, read-only here).
   SandboxPaths paths;
   paths.program = ctx.worker_bin;
-  paths.read_files = {file.string()};
+  paths.read_files = model_files(file, folder);
   std::string sandbox_error;
   if (!confine_worker(ctx.config, paths, file.parent_path().string(), limits, sandbox_error)) {
     log::error("worker sandbox could not be built", {{"error", sandbox_error}});
@@ -339,6 +353,10 @@ void submit_job(ServerContext& ctx, const httplib::Request& req, httplib::Respon
     if (m == "application/octet-stream") return ModelKind::draco;
     return std::nullopt;
   };
+  // A folder upload: the model plus its files ("files" parts), or a zip.
+  bool zip = false;
+  size_t folder_files = 0;
+  const fs::path folder = tmp / "model";
 
   if (media == "multipart/form-data") {
     std::unique_ptr<BoundedFileWriter> writer;
@@ -357,6 +375,13 @@ void submit_job(ServerContext& ctx, const httplib::Request& req, httplib::Respon
             have_model = true;
             kind = kind_for(media_type(f.content_type));
             const std::string fname = f.filename;
+            auto ends_zip = fname.size() > 4 && fname.compare(fname.size() - 4, 4, ".zip") == 0;
+            if (media_type(f.content_type) == "application/zip" || ends_zip) {
+              zip = true;
+              kind = ModelKind::glb;  // replaced by the model found in the zip
+              writer = std::make_unique<BoundedFileWriter>(tmp / "upload.zip", budget);
+              return true;
+            }
             if (!kind || media_type(f.content_type) == "application/octet-stream") {
               // Browsers send octet-stream for unknown extensions: go by the name.
               auto ends = [&](const char* e) { return fname.size() >= strlen(e) && fname.compare(fname.size() - strlen(e), strlen(e), e) == 0; };
@@ -371,9 +396,30 @@ void submit_job(ServerContext& ctx, const httplib::Request& req, httplib::Respon
             if (m != "image/png" && m != "image/jpeg") { bad_part = true; bad_detail = "texture must be image/png or image/jpeg"; return false; }
             texture_name = m == "image/png" ? "texture.png" : "texture.jpg";
             writer = std::make_unique<BoundedFileWriter>(tmp / texture_name, budget);
+          } else if (part == "files") {
+            // One file the model names, at its relative path (the part's filename).
+            if (auto why = unsafe_relative_path(f.filename); !why.empty()) {
+              bad_part = true;
+              bad_detail = "files part: " + why;
+              return false;
+            }
+            if (++folder_files > kMaxFolderEntries) {
+              bad_part = true;
+              bad_detail = "more than " + std::to_string(kMaxFolderEntries) + " 'files' parts";
+              return false;
+            }
+            const fs::path target = folder / f.filename;
+            std::error_code ec;
+            fs::create_directories(target.parent_path(), ec);
+            if (ec || fs::exists(target)) {
+              bad_part = true;
+              bad_detail = "files part '" + f.filename.substr(0, 80) + "' is named twice or clashes with a folder";
+              return false;
+            }
+            writer = std::make_unique<BoundedFileWriter>(target, budget);
           } else if (part != "params") {
             bad_part = true;
-            bad_detail = "unknown form part '" + part.substr(0, 40) + "' (expected file, params, texture)";
+            bad_detail = "unknown form part '" + part.substr(0, 40) + "' (expected file, files, params, texture)";
             return false;
           }
           return true;
@@ -388,7 +434,7 @@ void submit_job(ServerContext& ctx, const httplib::Request& req, httplib::Respon
             return true;
           }
           if (!writer) return false;
-          if (part == "file") model_bytes += int64_t(n);
+          if (part == "file" || part == "files") model_bytes += int64_t(n);
           return writer->write(data, n);
         });
     if (writer) writer->finish();
@@ -398,6 +444,10 @@ void submit_job(ServerContext& ctx, const httplib::Request& req, httplib::Respon
     if (!have_model) return set_problem(res, 400, "invalid-form", "multipart body needs a 'file' part");
   } else {
     kind = kind_for(media);
+    if (media == "application/zip") {
+      zip = true;
+      kind = ModelKind::glb;  // replaced by the model found in the zip
+    }
     BoundedFileWriter writer(tmp / "body", budget);
     char sniff[5] = {};
     size_t sniffed = 0;
@@ -413,7 +463,33 @@ void submit_job(ServerContext& ctx, const httplib::Request& req, httplib::Respon
     // application/octet-stream is Draco, but a GLB sent as octet-stream is recognised.
     if (*kind == ModelKind::draco && sniffed >= 4 && std::memcmp(sniff, "glTF", 4) == 0) kind = ModelKind::glb;
     model_bytes = writer.bytes();
-    fs::rename(tmp / "body", tmp / file_name_for(*kind));
+    fs::rename(tmp / "body", zip ? tmp / "upload.zip" : tmp / file_name_for(*kind));
+  }
+
+  // Where the model is, relative to the job directory.
+  std::string input_file = file_name_for(*kind);
+  if (zip) {
+    if (folder_files) return set_problem(res, 400, "invalid-form", "send either a .zip or 'files' parts, not both");
+    std::string found;
+    if (auto r = unpack_zip(tmp / "upload.zip", folder, uint64_t(budget), found))
+      return set_problem(res, r->status, r->slug, r->detail);
+    fs::remove(tmp / "upload.zip");
+    kind = found.size() > 4 && found.compare(found.size() - 4, 4, ".glb") == 0 ? ModelKind::glb : ModelKind::gltf;
+    input_file = "model/" + found;
+    std::error_code ec;
+    model_bytes = 0;
+    for (auto it = fs::recursive_directory_iterator(folder, ec); !ec && it != fs::recursive_directory_iterator();
+         it.increment(ec))
+      if (it->is_regular_file(ec)) model_bytes += int64_t(it->file_size(ec));
+  } else if (folder_files) {
+    if (*kind == ModelKind::draco)
+      return set_problem(res, 400, "invalid-form", "'files' parts go with a .gltf (a .drc names no files)");
+    // The model joins its files; a files part of the same name is a clash.
+    const fs::path target = folder / file_name_for(*kind);
+    if (fs::exists(target))
+      return set_problem(res, 400, "invalid-form", std::string("a files part may not be named ") + file_name_for(*kind));
+    fs::rename(tmp / file_name_for(*kind), target);
+    input_file = std::string("model/") + file_name_for(*kind);
   }
 
   nlohmann::json raw_params = *query_params;
@@ -422,20 +498,47 @@ void submit_job(ServerContext& ctx, const httplib::Request& req, httplib::Respon
     if (!p.is_object()) return set_problem(res, 400, "invalid-params", "the params part must be a JSON object");
     for (auto it = p.begin(); it != p.end(); ++it) raw_params[it.key()] = it.value();
   }
+  // The caller's own fields, stored in params (every job store persists
+  // params) but never turned into worker flags: an opaque metadata object
+  // and the job-end callback URL.
+  nlohmann::json own = nlohmann::json::object();
+  for (const char* key : {"metadata", "callback_url"}) {
+    if (!raw_params.contains(key)) continue;
+    own[key] = raw_params[key];
+    raw_params.erase(key);
+  }
+  if (own.contains("metadata")) {
+    nlohmann::json& m = own["metadata"];
+    if (m.is_string()) m = nlohmann::json::parse(m.get<std::string>(), nullptr, false);  // from a query string
+    if (!m.is_object()) return set_problem(res, 400, "invalid-params", "metadata must be a JSON object");
+    if (m.dump().size() > kMaxMetadataBytes)
+      return set_problem(res, 413, "metadata-too-large",
+                         "metadata is " + std::to_string(m.dump().size()) + " bytes as JSON, more than " +
+                             std::to_string(kMaxMetadataBytes));
+  }
+  if (own.contains("callback_url")) {
+    if (!own["callback_url"].is_string()) return set_problem(res, 400, "invalid-params", "callback_url must be a string");
+    if (auto why = check_callback_url(own["callback_url"].get<std::string>()); !why.empty())
+      return set_problem(res, 400, "invalid-params", why);
+    if (!ctx.callbacks)
+      return set_problem(res, 400, "invalid-params", "this server sends no callbacks (it has no --callback-secret)");
+  }
   nlohmann::json params;
   if (auto e = validate_params(raw_params, ctx.caps, params)) return set_problem(res, 400, "invalid-params", e.detail);
+  for (auto it = own.begin(); it != own.end(); ++it) params[it.key()] = it.value();
   hasher.add(std::string_view(params.dump()));
 
-  const fs::path model = tmp / file_name_for(*kind);
-  UploadVerdict check = check_model_file(model, *kind);
+  const fs::path model = tmp / input_file;
+  UploadVerdict check = check_model_file(model, *kind, zip || folder_files > 0);
   if (!check.ok) return set_problem(res, 400, check.slug, check.detail);
-  if (auto r = inspect_upload(ctx, model)) return set_problem(res, r->status, r->slug, r->detail);
+  if (auto r = inspect_upload(ctx, model, zip || folder_files ? folder : fs::path()))
+    return set_problem(res, r->status, r->slug, r->detail);
 
   Job job;
   job.id = id;
   job.created_at = now_seconds();
   job.params = params;
-  job.input_file = file_name_for(*kind);
+  job.input_file = input_file;
   job.content_type = *kind == ModelKind::glb ? "model/gltf-binary" : *kind == ModelKind::gltf ? "model/gltf+json" : "application/octet-stream";
   job.input_bytes = model_bytes;
   job.tenant = *tenant;

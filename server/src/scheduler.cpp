@@ -195,6 +195,7 @@ bool Scheduler::cancel(const std::string& id) {
       queue_.erase(it);
       store_.finish(id, JobState::canceled, std::nullopt, {}, now_seconds());
       metrics_.job_finished("canceled");
+      if (on_finish_) on_finish_(id);
       return true;
     }
   auto r = running_.find(id);
@@ -299,8 +300,10 @@ void Scheduler::worker_loop() {
       if (store_write("finish", [&] {
             store_.finish(id, JobState::failed, JobError{"internal", 500, "server error while running the job"},
                           {}, now_seconds());
-          }))
+          })) {
         metrics_.job_finished("failed");
+        if (on_finish_) on_finish_(id);
+      }
       remove_work_dir(id);
     }
     std::lock_guard lock(mu_);
@@ -427,8 +430,10 @@ bool Scheduler::run_job(const std::string& id) {
     cancel = running_[id];
   }
   if (job->cancel_requested) {
-    if (store_write("finish", [&] { store_.finish(id, JobState::canceled, std::nullopt, {}, now_seconds()); }))
+    if (store_write("finish", [&] { store_.finish(id, JobState::canceled, std::nullopt, {}, now_seconds()); })) {
       metrics_.job_finished("canceled");
+      if (on_finish_) on_finish_(id);
+    }
     return false;
   }
   // A worker binary being replaced (upgrade, rebuild) is briefly missing: wait
@@ -480,6 +485,7 @@ bool Scheduler::run_job(const std::string& id) {
   if (!store_write("finish", [&] { store_.finish(id, verdict.state, verdict.error, a.outputs, now_seconds()); }))
     return false;
   metrics_.job_finished(to_string(verdict.state));
+  if (on_finish_) on_finish_(id);
   nlohmann::json fields = {{"job", id}, {"state", to_string(verdict.state)}, {"seconds", a.outcome.seconds},
                            {"stage_seconds", a.stage_seconds}};
   if (verdict.error) fields["error"] = verdict.error->detail;
@@ -567,6 +573,7 @@ void Scheduler::run_leased(const Job& job, const Lease& lease) {
   }
   if (!complete(verdict.state, verdict.error, a.outputs)) return;
   metrics_.job_finished(to_string(verdict.state));
+  if (on_finish_) on_finish_(id);
   nlohmann::json fields = {{"job", id}, {"state", to_string(verdict.state)}, {"seconds", a.outcome.seconds},
                            {"stage_seconds", a.stage_seconds}, {"attempt", lease.attempt}};
   if (verdict.error) fields["error"] = verdict.error->detail;
@@ -601,7 +608,15 @@ Scheduler::Attempt Scheduler::attempt(const Job& job, std::atomic<bool>& cancel,
   // only work/ (its scratch directory and cwd) and the shared field cache.
   SandboxPaths paths;
   paths.program = worker_bin_;
+  // A folder upload (model/...): the model and every file beside or below it.
   paths.read_files.push_back((dir / job.input_file).string());
+  if (job.input_file.rfind("model/", 0) == 0) {
+    std::error_code ec;
+    for (auto it = fs::recursive_directory_iterator(dir / "model", ec); !ec && it != fs::recursive_directory_iterator();
+         it.increment(ec))
+      if (it->is_regular_file(ec) && !it->is_symlink(ec) && it->path() != dir / job.input_file)
+        paths.read_files.push_back(it->path().string());
+  }
   for (const char* tex : {"texture.png", "texture.jpg"})
     if (fs::exists(dir / tex)) {
       add("--texture", (dir / tex).string());

@@ -26,6 +26,7 @@ constexpr size_t kMaxDepth = 512;
 
 class UriScan final : public nlohmann::json_sax<nlohmann::json> {
  public:
+  explicit UriScan(bool folder) : folder_(folder) {}
   UploadVerdict verdict;
 
   bool null() override { return value(false, nullptr); }
@@ -60,9 +61,15 @@ class UriScan final : public nlohmann::json_sax<nlohmann::json> {
   bool value(bool container, const std::string* text) {
     if (stack_.empty()) return fail(bad("glTF JSON must be an object"));
     if (stack_.size() == 1 && list_key()) return fail(bad(top_key_ + " must be an array"));
-    if (in_item() && item_key_ == "uri" && (container || !text || text->rfind("data:", 0) != 0))
-      return fail({false, "external-uri",
-                   "external URI in " + top_key_ + " refused: uploads must be self-contained (GLB, or glTF with data: URIs)"});
+    if (in_item() && item_key_ == "uri" && (container || !text || text->rfind("data:", 0) != 0)) {
+      if (!folder_)
+        return fail({false, "external-uri",
+                     "external URI in " + top_key_ +
+                         " refused: send the files it names too (multipart 'files' parts or a .zip of the folder)"});
+      if (container || !text || !plain_relative(*text))
+        return fail({false, "external-uri",
+                     "URI in " + top_key_ + " refused: only data: URIs and relative paths inside the upload's folder"});
+    }
     return true;
   }
   bool open(char kind) {
@@ -78,13 +85,31 @@ class UriScan final : public nlohmann::json_sax<nlohmann::json> {
     return true;
   }
 
+  // A relative reference that stays in the folder: no scheme, no absolute
+  // path, no '..' (percent escapes of '.', '/' and '\\' refused outright).
+  static bool plain_relative(const std::string& u) {
+    if (u.empty() || u.find(':') != std::string::npos || u.front() == '/' || u.find('\\') != std::string::npos)
+      return false;
+    for (const char* esc : {"%2e", "%2E", "%2f", "%2F", "%5c", "%5C"})
+      if (u.find(esc) != std::string::npos) return false;
+    size_t start = 0;
+    while (start <= u.size()) {
+      size_t end = u.find('/', start);
+      if (end == std::string::npos) end = u.size();
+      if (u.compare(start, end - start, "..") == 0) return false;
+      start = end + 1;
+    }
+    return true;
+  }
+
+  bool folder_;
   std::string stack_;  // 'o' / 'a' per open container
   std::string top_key_, item_key_;
 };
 
 template <typename Input>
-UploadVerdict scan_gltf_json(Input&& input) {
-  UriScan scan;
+UploadVerdict scan_gltf_json(Input&& input, bool folder) {
+  UriScan scan(folder);
   nlohmann::json::sax_parse(std::forward<Input>(input), &scan);
   return scan.verdict;
 }
@@ -100,7 +125,7 @@ const char* file_name_for(ModelKind kind) {
   return "input.bin";
 }
 
-UploadVerdict check_model_file(const std::filesystem::path& file, ModelKind kind) {
+UploadVerdict check_model_file(const std::filesystem::path& file, ModelKind kind, bool folder) {
   std::ifstream in(file, std::ios::binary);
   if (!in) return {false, "internal", "upload vanished"};
   in.seekg(0, std::ios::end);
@@ -116,7 +141,7 @@ UploadVerdict check_model_file(const std::filesystem::path& file, ModelKind kind
   }
   if (kind == ModelKind::gltf) {
     if (size > kMaxJsonBytes) return {false, "too-large", "glTF JSON larger than 64 MiB"};
-    return scan_gltf_json(in);  // streamed from the file
+    return scan_gltf_json(in, folder);  // streamed from the file
   }
   unsigned char header[20] = {};
   in.read(reinterpret_cast<char*>(header), 20);
@@ -131,7 +156,7 @@ UploadVerdict check_model_file(const std::filesystem::path& file, ModelKind kind
   if (json_len > size - 20 || json_len > kMaxJsonBytes) return bad("GLB JSON chunk runs past the end of the file");
   std::string text(json_len, '\0');
   in.read(text.data(), std::streamsize(json_len));
-  return scan_gltf_json(text);
+  return scan_gltf_json(text, folder);
 }
 
 }  // namespace soupuv::server

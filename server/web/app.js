@@ -1,14 +1,18 @@
 // The upload page: builds the parameter form from GET /v1/params, submits the
 // model as multipart/form-data, polls the job, then shows the result GLB in a
 // three.js viewer (orbit controls; toggles for debug layers when the job has
-// them), the UV layout, the diagnostics as a table and, when the diagnostics
-// carry a solver history, its convergence plot.
+// them; the texture or a checker), the UV layout, a summary of the diagnostics
+// against the targets (summary.js; the raw rows behind a disclosure and as a
+// download) and, when the diagnostics carry a solver history, its convergence
+// plot. A .gltf may come with the files it names (several files picked or
+// dropped at once) or as a .zip of its folder.
 import * as THREE from 'three';
 import { OrbitControls } from 'three/addons/controls/OrbitControls.js';
 import { GLTFLoader } from 'three/addons/loaders/GLTFLoader.js';
+import { orderedStages, renderSummary } from './summary.js';
 
 const $ = (id) => document.getElementById(id);
-const state = { file: null, params: [], token: localStorage.getItem('soupuv-token') || '' };
+const state = { file: null, extra: [], params: [], token: localStorage.getItem('soupuv-token') || '' };
 $('token-input').value = state.token;
 
 function authHeaders() {
@@ -51,6 +55,10 @@ async function loadParams() {
       input = document.createElement('select');
       if (p.default === null) input.append(new Option('(default)', ''));
       for (const v of p.values) input.append(new Option(v, v, false, v === p.default));
+    } else if (p.type === 'boolean' && p.default === null) {
+      // No fixed default (rebake: on when the input has colours): three choices.
+      input = document.createElement('select');
+      for (const [text, v] of [['(default)', ''], ['on', 'true'], ['off', 'false']]) input.append(new Option(text, v));
     } else if (p.type === 'boolean') {
       input = document.createElement('input');
       input.type = 'checkbox';
@@ -86,6 +94,8 @@ function collectParams() {
       } catch {
         throw new Error(`${p.name.replace(/_/g, ' ')} is not valid JSON`);
       }
+    } else if (p.type === 'boolean' && p.default === null) {
+      if (el.value !== '') out[p.name] = el.value === 'true';
     } else if (p.type === 'boolean') {
       if (el.checked !== (p.default === true)) out[p.name] = el.checked;
     } else if (el.value !== '') {
@@ -96,9 +106,18 @@ function collectParams() {
 }
 
 // ---- file choice ----------------------------------------------------------------
-function chooseFile(file) {
+// The model (.glb/.gltf/.drc/.zip) among the chosen files; the others are the
+// files a .gltf names (its .bin, its images), sent as "files" parts.
+function chooseFiles(list) {
+  const files = [...(list || [])];
+  const isModel = (f) => /\.(glb|gltf|drc|zip)$/i.test(f.name);
+  const file = files.find(isModel) || files[0] || null;
   state.file = file;
-  $('drop-text').textContent = file ? `${file.name} (${(file.size / 1024).toFixed(0)} KiB)` : 'Drop a file here';
+  state.extra = files.filter((f) => f !== file);
+  const size = files.reduce((s, f) => s + f.size, 0);
+  $('drop-text').textContent = file
+    ? `${file.name}${state.extra.length ? ` + ${state.extra.length} file(s)` : ''} (${(size / 1024).toFixed(0)} KiB)`
+    : 'Drop a file here';
   $('submit-button').disabled = !file;
 }
 const zone = $('drop-zone');
@@ -107,9 +126,9 @@ zone.addEventListener('dragleave', () => zone.classList.remove('over'));
 zone.addEventListener('drop', (e) => {
   e.preventDefault();
   zone.classList.remove('over');
-  if (e.dataTransfer.files.length) chooseFile(e.dataTransfer.files[0]);
+  if (e.dataTransfer.files.length) chooseFiles(e.dataTransfer.files);
 });
-$('file-input').addEventListener('change', (e) => chooseFile(e.target.files[0] || null));
+$('file-input').addEventListener('change', (e) => chooseFiles(e.target.files));
 
 function showFormError(text) {
   $('form-error').textContent = text;
@@ -124,8 +143,9 @@ $('job-form').addEventListener('submit', async (e) => {
   // Browsers label unknown extensions application/octet-stream; the server
   // also looks at the file name, but say what we know.
   const ext = state.file.name.split('.').pop().toLowerCase();
-  const type = { glb: 'model/gltf-binary', gltf: 'model/gltf+json', drc: 'application/octet-stream' }[ext] || state.file.type;
+  const type = { glb: 'model/gltf-binary', gltf: 'model/gltf+json', drc: 'application/octet-stream', zip: 'application/zip' }[ext] || state.file.type;
   form.append('file', new Blob([state.file], { type }), state.file.name);
+  for (const f of state.extra) form.append('files', f, f.name);
   let params;
   try {
     params = collectParams();
@@ -170,7 +190,7 @@ function showJob(job) {
   // Stages done so far, in the order the worker reported them, with seconds.
   const list = $('stages');
   list.textContent = '';
-  for (const [name, secs] of Object.entries(job.stage_seconds || {})) {
+  for (const [name, secs] of orderedStages(job.stage_seconds)) {
     const li = document.createElement('li');
     li.textContent = `${name.replace(/__/g, ' / ')}: ${secs < 0.01 ? '<0.01' : secs.toFixed(2)} s`;
     list.append(li);
@@ -208,8 +228,13 @@ async function showResult(job) {
     $('uv-figure').hidden = false;
   }
   if (job.links.diagnostics) {
-    const diag = JSON.parse(new TextDecoder().decode(await fetchBuffer(job.links.diagnostics)));
+    const bytes = await fetchBuffer(job.links.diagnostics);
+    const diag = JSON.parse(new TextDecoder().decode(bytes));
+    renderSummary($('summary'), diag);
+    showWarnings(diag.warnings || []);
     showDiagnostics(diag);
+    $('diagnostics-download').href = URL.createObjectURL(new Blob([bytes], { type: 'application/json' }));
+    $('diagnostics-download').download = `${job.id}-diagnostics.json`;
     plotConvergence(diag);
   }
   window.__soupuvResultShown = true;  // for the browser test: every panel is filled
@@ -230,14 +255,28 @@ function flatten(obj, prefix = '', out = []) {
   return out;
 }
 
+// Every field, one row each, behind the "All diagnostics" disclosure.
 function showDiagnostics(diag) {
   const body = $('diagnostics').querySelector('tbody');
   body.textContent = '';
-  for (const [k, v] of flatten(diag)) {
+  const rows = flatten(diag);
+  for (const [k, v] of rows) {
     const tr = body.insertRow();
     tr.insertCell().textContent = k;
     tr.insertCell().textContent = v;
   }
+  $('raw-count').textContent = `${rows.length} rows`;
+}
+
+function showWarnings(warnings) {
+  const list = $('warnings');
+  list.textContent = '';
+  for (const w of warnings) {
+    const li = document.createElement('li');
+    li.textContent = w;
+    list.append(li);
+  }
+  $('warnings-wrap').hidden = warnings.length === 0;
 }
 
 // The first numeric array named like a residual history anywhere in the
@@ -307,6 +346,34 @@ const viewer = (() => {
   controls.addEventListener('change', render);
   window.addEventListener('resize', () => { resize(); render(); });
 
+  // A checker shows the map itself (seams, stretch) where the texture (a
+  // re-bake of the input's colours) is meant to hide it.
+  const checker = (() => {
+    const c = document.createElement('canvas');
+    c.width = c.height = 512;
+    const g = c.getContext('2d');
+    for (let y = 0; y < 16; y++)
+      for (let x = 0; x < 16; x++) {
+        g.fillStyle = (x + y) % 2 ? '#f2f2f2' : `hsl(${(x * 22 + y * 7) % 360}, 55%, 45%)`;
+        g.fillRect(x * 32, y * 32, 32, 32);
+      }
+    const t = new THREE.CanvasTexture(c);
+    t.flipY = false;  // glTF's UV origin is the top-left
+    t.colorSpace = THREE.SRGBColorSpace;
+    t.wrapS = t.wrapT = THREE.RepeatWrapping;
+    return t;
+  })();
+  function useChecker(root, on) {
+    root.traverse((o) => {
+      if (!o.isMesh) return;
+      for (const m of Array.isArray(o.material) ? o.material : [o.material]) {
+        if (!m.userData.ownMap) m.userData.ownMap = m.map || null;
+        m.map = on ? checker : m.userData.ownMap;
+        m.needsUpdate = true;
+      }
+    });
+  }
+
   async function show(layers) {
     for (const r of roots) scene.remove(r);
     roots = [];
@@ -325,6 +392,12 @@ const viewer = (() => {
       label.append(box, ` ${layer.name}`);
       $('layers').append(label);
     }
+    const label = document.createElement('label');
+    const box = document.createElement('input');
+    box.type = 'checkbox';
+    box.addEventListener('change', () => { useChecker(roots[0], box.checked); render(); });
+    label.append(box, ' checker texture');
+    $('layers').append(label);
     // Frame the first layer.
     resize();
     const bounds = new THREE.Box3().setFromObject(roots[0]);

@@ -4,8 +4,11 @@
 // proxy resolution and debug outputs on, and checks what a user sees: stage
 // progress while it runs, the viewer drew a textured model, toggles for soup,
 // proxy and field lines (turning the proxy on changes the picture), the UV
-// layout image, the diagnostics table and the convergence plot. Saves a
-// screenshot.
+// layout image, the summary of the diagnostics (figures judged against the
+// targets; the raw rows behind a closed disclosure), the finished stages in
+// pipeline order, the checker toggle (changes the picture) and the convergence
+// plot. With --folder DIR it then uploads DIR's files at once (a .gltf with
+// its .bin and images) and checks the texture was re-baked. Saves a screenshot.
 //
 //   node upload_page.test.mjs --server BIN --worker BIN --sample FILE --out DIR
 // Prints "1 passed, 0 failed" or "0 passed, 1 failed" and exits accordingly.
@@ -20,6 +23,10 @@ const args = Object.fromEntries(process.argv.slice(2).reduce((acc, a, i, all) =>
 }, []));
 for (const k of ['server', 'worker', 'sample', 'out']) {
   if (!args[k]) { console.error(`missing --${k}`); process.exit(2); }
+}
+if (!fs.existsSync(args.sample)) {
+  console.log(`SKIPPED: the sample ${args.sample} is absent (no ../shared/data)`);
+  process.exit(77);
 }
 fs.mkdirSync(args.out, { recursive: true });
 const dataDir = fs.mkdtempSync(path.join(args.out, 'data-'));
@@ -111,10 +118,20 @@ try {
   const plotPoints = await page.evaluate(() => (document.getElementById('plot-figure').hidden ? 0 : window.__soupuvPlotPoints || 0));
   const stagesSeen = await page.evaluate(() => [...new Set(window.__soupuvStagesSeen || [])]);
   const stageRows = await page.$$eval('#stages li', (l) => l.length);
+  const stageNames = await page.$$eval('#stages li', (l) => l.map((e) => e.textContent.split(':')[0]));
+  const summary = await page.$$eval('#summary tbody tr', (r) => r.map((e) => [e.cells[0].textContent, e.className]));
+  const rawOpen = await page.$eval('#raw-diagnostics', (d) => d.open);
+  const downloadHref = await page.$eval('#diagnostics-download', (a) => a.href);
+  const checkerToggle = page.locator('#layers label', { hasText: 'checker' }).locator('input');
+  const beforeChecker = await checksum();
+  await checkerToggle.check();
+  const checkerChanged = (await checksum()) !== beforeChecker;
+  await checkerToggle.uncheck();
   await page.screenshot({ path: path.join(args.out, 'upload-page.png'), fullPage: true });
   console.log(JSON.stringify({ drawn, diagnostics_rows: rows, layers, proxy_changed_picture: proxyChanged,
     uv_layout_width: uvWidth, convergence_points: plotPoints, stages_seen_running: stagesSeen,
-    stage_rows: stageRows, console_errors: consoleErrors }));
+    stage_rows: stageRows, stage_names: stageNames, summary, raw_open: rawOpen, checker_changed_picture: checkerChanged,
+    console_errors: consoleErrors }));
   if (drawn.fraction < 0.02) throw new Error(`viewer drew almost nothing (${(drawn.fraction * 100).toFixed(2)}% non-background)`);
   if (drawn.colors < 8) throw new Error(`viewer shows ${drawn.colors} colour classes: no texture?`);
   if (rows < 5) throw new Error(`diagnostics table has ${rows} rows`);
@@ -125,7 +142,35 @@ try {
   if (plotPoints < 1) throw new Error('no convergence plot');
   if (stagesSeen.length < 2) throw new Error(`stage progress not shown while running (saw: ${stagesSeen.join(', ')})`);
   if (stageRows < 4) throw new Error(`finished-stage list has ${stageRows} entries`);
+  // Pipeline order: load first, the proxy before the atlas, charge before trace, write last.
+  const at = (p) => stageNames.findIndex((n) => n === p || n.startsWith(`${p}_`));
+  for (const [a, b] of [['load', 'write'], ['proxy', 'atlas'], ['charge', 'trace'], ['trace', 'transfer'], ['uv_solve', 'write']])
+    if (at(a) >= 0 && at(b) >= 0 && at(a) > at(b)) throw new Error(`stage ${a} listed after ${b}: ${stageNames.join(', ')}`);
+  if (at('load') !== 0) throw new Error(`stages do not start with load: ${stageNames.join(', ')}`);
+  const judged = summary.filter(([, c]) => ['good', 'near', 'bad'].includes(c)).map(([l]) => l);
+  for (const want of ['Continuity', 'Overlap', 'Utilisation', 'Stretch (L2)', 'Flipped triangles'])
+    if (!judged.includes(want)) throw new Error(`summary lacks a judged '${want}' (rows: ${JSON.stringify(summary)})`);
+  if (!summary.some(([l]) => l === 'Time')) throw new Error('summary has no time');
+  if (rawOpen) throw new Error('the raw diagnostics are open by default');
+  if (!downloadHref.startsWith('blob:')) throw new Error('no diagnostics download link');
+  if (!checkerChanged) throw new Error('the checker toggle did not change the picture');
   if (consoleErrors.length) throw new Error(`page errors: ${consoleErrors.join(' | ')}`);
+
+  if (args.folder) {
+    // A .gltf with its files picked at once: the page sends them as "files"
+    // parts, the server maps it, the texture is the re-baked base colour.
+    const files = fs.readdirSync(args.folder).map((f) => path.join(args.folder, f));
+    await page.selectOption('#params [name="method"]', 'box');
+    await page.setInputFiles('#file-input', files);
+    await page.evaluate(() => { window.__soupuvViewerReady = false; window.__soupuvResultShown = false; });
+    await page.click('#submit-button');
+    await page.waitForFunction(() => window.__soupuvResultShown === true ||
+      ['failed', 'canceled'].includes(document.getElementById('job-state').dataset.state), null, { timeout: 90000 });
+    const texture = await page.$$eval('#summary tbody tr', (r) => r.map((e) => [e.cells[0].textContent, e.cells[1].textContent]));
+    const row = texture.find(([l]) => l === 'Texture');
+    console.log(JSON.stringify({ folder_upload: texture }));
+    if (!row || !row[1].startsWith('re-baked')) throw new Error(`folder upload: texture ${JSON.stringify(row)}, expected re-baked`);
+  }
 } catch (e) {
   failed = e;
 } finally {

@@ -14,6 +14,7 @@
 #include <fstream>
 #include <regex>
 #include <stdexcept>
+#include "shared_data.h"
 
 extern char** environ;
 
@@ -32,7 +33,7 @@ std::string read_bytes(const fs::path& p) {
   return std::string((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
 }
 
-std::string shared_data(const std::string& rel) { return std::string(SOUPUV_SHARED_DATA) + "/" + rel; }
+std::string shared_data(const std::string& rel) { return soupuv_test::shared_data_dir() + "/" + rel; }
 
 bool cli_available() { return std::string(SOUPUV_CLI_BIN).size() > 0 && access(SOUPUV_CLI_BIN, X_OK) == 0; }
 

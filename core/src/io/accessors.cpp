@@ -167,6 +167,22 @@ std::vector<Vec3> read_positions(const nlohmann::json& doc, BufferTable& buffers
   return out;
 }
 
+std::vector<float> read_floats(const nlohmann::json& doc, BufferTable& buffers, uint64_t accessor,
+                               uint64_t max_bytes, uint64_t& components) {
+  Accessor a = describe(doc, buffers, accessor, max_bytes);
+  components = a.components;
+  const uint64_t csize = a.element_size / a.components;
+  std::vector<float> out(size_t(a.count * a.components), 0.0f);
+  auto decode = [&](uint64_t i, const uint8_t* p) {
+    for (uint64_t c = 0; c < a.components; ++c)
+      out[size_t(i * a.components + c)] = float(decode_component(p + c * csize, a.component_type, a.normalized));
+  };
+  if (!a.data.empty())
+    for (uint64_t i = 0; i < a.count; ++i) decode(i, a.data.data() + i * a.stride);
+  apply_sparse(a, buffers, [&](uint32_t i, const uint8_t* p) { decode(i, p); });
+  return out;
+}
+
 std::vector<uint32_t> read_indices(const nlohmann::json& doc, BufferTable& buffers, uint64_t accessor,
                                    uint64_t max_bytes) {
   Accessor a = describe(doc, buffers, accessor, max_bytes);

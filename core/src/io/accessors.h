@@ -24,6 +24,10 @@ uint64_t accessor_count(const nlohmann::json& doc, uint64_t accessor);
 
 std::vector<Vec3> read_positions(const nlohmann::json& doc, BufferTable& buffers, uint64_t accessor,
                                  uint64_t max_bytes);
+// Any accessor as float components (normalized integers converted by the
+// glTF formulas); `components` is set to its per-element count.
+std::vector<float> read_floats(const nlohmann::json& doc, BufferTable& buffers, uint64_t accessor,
+                               uint64_t max_bytes, uint64_t& components);
 std::vector<uint32_t> read_indices(const nlohmann::json& doc, BufferTable& buffers, uint64_t accessor,
                                    uint64_t max_bytes);
 

@@ -73,8 +73,9 @@ BufferTable::BufferTable(const nlohmann::json& doc, std::span<const uint8_t> glb
 
 std::vector<uint8_t> BufferTable::read_external(const std::string& uri, const std::string& where) {
   if (!options_.allow_external_uris || options_.base_dir.empty())
-    throw Error(ErrorCode::unsupported, where + ": external URI '" + uri.substr(0, 200) +
-                                            "' refused (only GLB, data: URIs or an allowed local base directory)");
+    throw Error(ErrorCode::unsupported, where + ": external file '" + uri.substr(0, 200) +
+                                            "' refused: reading files beside the model is off (CLI: "
+                                            "--no-external-files; in memory: no base directory)");
   std::string path = resolve_external_path(uri, options_.base_dir);
   std::error_code ec;
   if (!fs::is_regular_file(path, ec)) fail_input(where + ": external file '" + uri + "' not found");
@@ -113,6 +114,12 @@ std::span<const uint8_t> BufferTable::buffer(uint64_t index, const std::string& 
   resolved_[index] = data.first(size_t(byte_length));
   is_resolved_[index] = true;
   return resolved_[index];
+}
+
+std::vector<uint8_t> BufferTable::read_uri(const std::string& uri, const std::string& where) {
+  std::vector<uint8_t> bytes = is_data_uri(uri) ? decode_data_uri(uri, budget_) : read_external(uri, where);
+  budget_ -= std::min<uint64_t>(budget_, bytes.size());
+  return bytes;
 }
 
 ViewBytes BufferTable::view(uint64_t index, const std::string& where) {

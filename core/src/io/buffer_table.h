@@ -34,6 +34,9 @@ class BufferTable {
 
   std::span<const uint8_t> buffer(uint64_t index, const std::string& where);
   ViewBytes view(uint64_t index, const std::string& where);
+  // The bytes a buffer or image URI names (data: or an allowed external file),
+  // counted against the same byte budget.
+  std::vector<uint8_t> read_uri(const std::string& uri, const std::string& where);
 
  private:
   std::vector<uint8_t> read_external(const std::string& uri, const std::string& where);

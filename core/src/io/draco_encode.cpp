@@ -48,6 +48,13 @@ DracoPrimitive draco_encode(const OutPrimitive& primitive, int position_bits, in
                        ? -1
                        : add_float_attribute(mesh, draco::GeometryAttribute::NORMAL, 3,
                                              primitive.normals, points);
+  std::vector<std::pair<std::string, int>> extra_atts;
+  if (!primitive.colors.empty())
+    extra_atts.push_back({"COLOR_0", add_float_attribute(mesh, draco::GeometryAttribute::COLOR, 4,
+                                                         primitive.colors, points)});
+  for (const auto& [set, values] : primitive.texcoords)
+    extra_atts.push_back({"TEXCOORD_" + std::to_string(set + 1),
+                          add_float_attribute(mesh, draco::GeometryAttribute::TEX_COORD, 2, values, points)});
 
   draco::Encoder encoder;
   if (position_bits > 0)
@@ -64,6 +71,8 @@ DracoPrimitive draco_encode(const OutPrimitive& primitive, int position_bits, in
   out.position_id = static_cast<int>(mesh.attribute(position_att)->unique_id());
   out.texcoord_id = static_cast<int>(mesh.attribute(texcoord_att)->unique_id());
   if (normal_att >= 0) out.normal_id = static_cast<int>(mesh.attribute(normal_att)->unique_id());
+  for (const auto& [name, att] : extra_atts)
+    out.extra_ids.push_back({name, static_cast<int>(mesh.attribute(att)->unique_id())});
 
   draco::DecoderBuffer in;
   in.Init(reinterpret_cast<const char*>(out.bytes.data()), out.bytes.size());

@@ -4,6 +4,7 @@
 #include <chrono>
 #include <cstring>
 #include <limits>
+#include <set>
 
 #include "gltf_write_parts.h"
 #include "soupuv/errors.h"
@@ -89,6 +90,13 @@ struct Builder {
     if (!p.normals.empty())
       attributes["NORMAL"] = accessor({{"bufferView", bin.add_view(as_bytes(p.normals), kArrayBuffer)},
                                        {"componentType", kFloat}, {"count", n}, {"type", "VEC3"}});
+    if (!p.colors.empty())
+      attributes["COLOR_0"] = accessor({{"bufferView", bin.add_view(as_bytes(p.colors), kArrayBuffer)},
+                                        {"componentType", kFloat}, {"count", n}, {"type", "VEC4"}});
+    for (const auto& [set, values] : p.texcoords)
+      attributes["TEXCOORD_" + std::to_string(set + 1)] =
+          accessor({{"bufferView", bin.add_view(as_bytes(values), kArrayBuffer)},
+                    {"componentType", kFloat}, {"count", n}, {"type", "VEC2"}});
     int indices;
     // 65535 is the primitive-restart value of unsigned short, so it may not be an index.
     if (n < 65535) {
@@ -115,15 +123,30 @@ struct Builder {
     attributes["TEXCOORD_0"] = accessor({{"componentType", kFloat}, {"count", d.points}, {"type", "VEC2"}});
     if (d.normal_id >= 0)
       attributes["NORMAL"] = accessor({{"componentType", kFloat}, {"count", d.points}, {"type", "VEC3"}});
+    for (const auto& [name, id] : d.extra_ids)
+      attributes[name] = accessor({{"componentType", kFloat}, {"count", d.points}, {"type", name == "COLOR_0" ? "VEC4" : "VEC2"}});
     int indices = accessor({{"componentType", d.points < 65535 ? kUnsignedShort : kUnsignedInt},
                             {"count", d.faces * 3}, {"type", "SCALAR"}});
     json extension = {{"bufferView", bin.add_view(d.bytes, 0)},
                       {"attributes", {{"POSITION", d.position_id}, {"TEXCOORD_0", d.texcoord_id}}}};
     if (d.normal_id >= 0) extension["attributes"]["NORMAL"] = d.normal_id;
+    for (const auto& [name, id] : d.extra_ids) extension["attributes"][name] = id;
     return json{{"attributes", attributes}, {"indices", indices}, {"mode", kTriangles},
                 {"extensions", {{"KHR_draco_mesh_compression", extension}}}};
   }
 };
+
+// The vertex attributes the output carries, by glTF name (sorted, once each).
+std::vector<std::string> written_attributes(const std::vector<OutMesh>& meshes) {
+  std::set<std::string> names = {"POSITION", "TEXCOORD_0"};
+  for (const OutMesh& m : meshes)
+    for (const OutPrimitive& p : m.primitives) {
+      if (!p.normals.empty()) names.insert("NORMAL");
+      if (!p.colors.empty()) names.insert("COLOR_0");
+      for (const auto& [set, values] : p.texcoords) names.insert("TEXCOORD_" + std::to_string(set + 1));
+    }
+  return {names.begin(), names.end()};
+}
 
 }  // namespace
 
@@ -144,8 +167,15 @@ WriteResult write_glb(const Asset& asset, std::span<const Vec2> corner_uvs,
   warn_dropped(document, result.warnings);
   InstanceTable table = instance_table(asset);
   std::vector<Float3> positions = corner_positions(asset, table, result.warnings);
+  BuildCounts counts;
   std::vector<OutMesh> meshes = build_meshes(asset, table, positions, corner_uvs, options.normals,
-                                             result.nonfinite_uvs, result.degenerate_normals);
+                                             options.keep_colors, counts);
+  result.nonfinite_uvs = counts.nonfinite_uvs;
+  result.degenerate_normals = counts.degenerate_normals;
+  if (counts.replaced_normals > 0)
+    result.warnings.push_back(std::to_string(counts.replaced_normals) +
+                              " source NORMAL(s) were zero or not finite; the triangle's flat normal was written");
+  result.attributes = written_attributes(meshes);
   if (result.degenerate_normals > 0)
     result.warnings.push_back(std::to_string(result.degenerate_normals) +
                               " triangle(s) are degenerate in float32; their NORMAL is +z");
@@ -164,7 +194,9 @@ WriteResult write_glb(const Asset& asset, std::span<const Vec2> corner_uvs,
   Texture texture = options.texture ? *options.texture : uv_check_texture(options.check_texture_size);
   int image_view = builder.bin.add_view(texture.bytes, 0);
   out["images"] = json::array({{{"bufferView", image_view}, {"mimeType", texture.mime_type},
-                                {"name", options.texture ? "user texture" : "soupuv UV check"}}});
+                                {"name", !options.texture_name.empty() ? options.texture_name
+                                         : options.texture           ? "user texture"
+                                                                     : "soupuv UV check"}}});
   out["samplers"] = json::array({{{"magFilter", 9729}, {"minFilter", 9987},
                                   {"wrapS", 10497}, {"wrapT", 10497}}});
   out["textures"] = json::array({{{"sampler", 0}, {"source", 0}}});

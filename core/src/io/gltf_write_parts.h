@@ -63,6 +63,9 @@ struct OutPrimitive {
   std::vector<float> positions;  // xyz per vertex
   std::vector<float> uvs;        // uv per vertex
   std::vector<float> normals;    // xyz per vertex, or empty
+  std::vector<float> colors;     // COLOR_0 rgba per vertex, or empty
+  // The source's TEXCOORD_n (written as TEXCOORD_n+1): (n, uv per vertex).
+  std::vector<std::pair<int, std::vector<float>>> texcoords;
   std::vector<uint32_t> indices;
   size_t vertex_count() const { return positions.size() / 3; }
 };
@@ -74,14 +77,22 @@ struct OutMesh {
   std::vector<OutPrimitive> primitives;
 };
 
+// What build_meshes counts while it welds.
+struct BuildCounts {
+  size_t nonfinite_uvs = 0;       // corner UVs written as (0,0)
+  size_t degenerate_normals = 0;  // flat normals of float-degenerate triangles (+z)
+  size_t replaced_normals = 0;    // source NORMALs zero or non-finite: the flat normal written
+};
+
 // Groups soup triangles by origin and welds their corners. Non-finite UVs are
-// written as (0,0) and counted in nonfinite_uvs. With flat_normals every
-// corner also carries its triangle's unit normal (triangles degenerate in
-// float get +z, counted in degenerate_normals).
+// written as (0,0). With flat_normals every corner carries its triangle's unit
+// normal (triangles degenerate in float get +z); otherwise a primitive whose
+// source had NORMAL keeps it (normalized). With keep_colors, COLOR_0 is kept;
+// the source's TEXCOORD_n always are. Corners weld only where all agree.
 std::vector<OutMesh> build_meshes(const Asset& asset, const InstanceTable& table,
                                   std::span<const Float3> corner_positions,
-                                  std::span<const Vec2> corner_uvs, bool flat_normals,
-                                  size_t& nonfinite_uvs, size_t& degenerate_normals);
+                                  std::span<const Vec2> corner_uvs, bool flat_normals, bool keep_colors,
+                                  BuildCounts& counts);
 
 // The document's materials with baseColorTexture set to texture_index on
 // TEXCOORD_0 and everything that referred to the old UVs dropped (warned once
@@ -112,6 +123,8 @@ struct DracoPrimitive {
   int position_id = -1;  // Draco attribute unique ids, for the extension object
   int texcoord_id = -1;
   int normal_id = -1;    // -1 when the primitive has no normals
+  // Further attributes (COLOR_0, TEXCOORD_1..): glTF name -> Draco id.
+  std::vector<std::pair<std::string, int>> extra_ids;
   size_t points = 0;     // vertex count after decoding (the accessors' count)
   size_t faces = 0;
 };

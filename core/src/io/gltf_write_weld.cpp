@@ -16,17 +16,15 @@ namespace soupuv::io::detail {
 
 namespace {
 
-// Bit pattern of (x, y, z, u, v, nx, ny, nz) — the normal is zero when not
-// written: -0.0 and 0.0 stay distinct, as they are in the source accessor.
-struct CornerKey {
-  uint32_t bits[8];
-  bool operator==(const CornerKey& o) const { return std::memcmp(bits, o.bits, sizeof bits) == 0; }
-};
+// Bit patterns of everything a written vertex carries: position, UV, normal
+// (zero when not written: -0.0 and 0.0 stay distinct, as in the source), then
+// colour and the source UV sets when the primitive keeps them.
+using CornerKey = std::vector<uint32_t>;
 
 struct CornerKeyHash {
   size_t operator()(const CornerKey& k) const {
-    uint64_t h = 1469598103934665603ull;  // FNV-1a over the five words
-    for (uint32_t b : k.bits) h = (h ^ b) * 1099511628211ull;
+    uint64_t h = 1469598103934665603ull;  // FNV-1a over the words
+    for (uint32_t b : k) h = (h ^ b) * 1099511628211ull;
     return static_cast<size_t>(h ^ (h >> 29));
   }
 };
@@ -53,17 +51,17 @@ Float3 flat_normal(const Float3& a, const Float3& b, const Float3& c, size_t& de
 
 std::vector<OutMesh> build_meshes(const Asset& asset, const InstanceTable& table,
                                   std::span<const Float3> corner_positions,
-                                  std::span<const Vec2> corner_uvs, bool flat_normals,
-                                  size_t& nonfinite_uvs, size_t& degenerate_normals) {
+                                  std::span<const Vec2> corner_uvs, bool flat_normals, bool keep_colors,
+                                  BuildCounts& counts) {
   const Soup& soup = asset.soup;
+  const VertexAttributes& attrs = asset.attributes;
   // instance -> primitive -> triangles; std::map keeps the output order
   // deterministic and close to the source's.
   std::map<uint32_t, std::map<int32_t, std::vector<uint32_t>>> groups;
   for (size_t t = 0; t < soup.triangles.size(); ++t)
     groups[table.triangle_instance[t]][soup.origins[t].primitive].push_back(static_cast<uint32_t>(t));
 
-  nonfinite_uvs = 0;
-  degenerate_normals = 0;
+  counts = {};
   std::vector<OutMesh> meshes;
   for (auto& [key, primitives] : groups) {
     OutMesh mesh;
@@ -77,29 +75,68 @@ std::vector<OutMesh> build_meshes(const Asset& asset, const InstanceTable& table
       OutPrimitive out;
       out.source_primitive = primitive_index;
       out.material = soup.origins[triangles.front()].material;
+      // One source primitive: its vertices all have the same attributes.
+      const uint32_t present = attrs.present.empty() ? 0 : attrs.present[soup.triangles[triangles.front()][0]];
+      const bool source_normals = !flat_normals && (present & VertexAttributes::kNormal);
+      const bool colors = keep_colors && (present & VertexAttributes::kColor);
+      for (int n = 0; n < int(attrs.texcoords.size()); ++n)
+        if (present & VertexAttributes::texcoord_bit(n)) out.texcoords.push_back({n, {}});
       std::unordered_map<CornerKey, uint32_t, CornerKeyHash> welded;
       welded.reserve(triangles.size() * 3);
       out.indices.reserve(triangles.size() * 3);
+      CornerKey ck;
       for (uint32_t t : triangles) {
-        Float3 normal{0, 0, 0};
-        if (flat_normals)
-          normal = flat_normal(corner_positions[t * 3], corner_positions[t * 3 + 1],
-                               corner_positions[t * 3 + 2], degenerate_normals);
+        Float3 flat{0, 0, 0};
+        size_t degenerate_fallback = 0;  // a source normal's fallback: counted when used
+        if (flat_normals || source_normals)
+          flat = flat_normal(corner_positions[t * 3], corner_positions[t * 3 + 1], corner_positions[t * 3 + 2],
+                             flat_normals ? counts.degenerate_normals : degenerate_fallback);
         for (int k = 0; k < 3; ++k) {
+          const uint32_t v = soup.triangles[t][k];
           const Float3& p = corner_positions[t * 3 + k];
           Vec2 uv = corner_uvs[t * 3 + k];
           if (!std::isfinite(uv.x) || !std::isfinite(uv.y)) {
             uv = {0, 0};
-            ++nonfinite_uvs;
+            ++counts.nonfinite_uvs;
           }
-          float u = static_cast<float>(uv.x), v = static_cast<float>(uv.y);
-          CornerKey ck{{bits_of(p[0]), bits_of(p[1]), bits_of(p[2]), bits_of(u), bits_of(v),
-                        bits_of(normal[0]), bits_of(normal[1]), bits_of(normal[2])}};
+          float u = static_cast<float>(uv.x), w = static_cast<float>(uv.y);
+          Float3 normal = flat_normals ? flat : Float3{0, 0, 0};
+          if (source_normals) {
+            const auto& sn = attrs.normals[v];
+            Vec3 n = normalized(Vec3{sn[0], sn[1], sn[2]});
+            if (std::isfinite(n.x) && std::isfinite(n.y) && std::isfinite(n.z) && norm(n) > 0.5)
+              normal = {float(n.x), float(n.y), float(n.z)};
+            else {
+              normal = flat;
+              ++counts.replaced_normals;
+            }
+          }
+          ck.assign({bits_of(p[0]), bits_of(p[1]), bits_of(p[2]), bits_of(u), bits_of(w), bits_of(normal[0]),
+                     bits_of(normal[1]), bits_of(normal[2])});
+          std::array<float, 4> color{};
+          if (colors) {
+            for (int c = 0; c < 4; ++c) {
+              float x = attrs.colors[v][c];
+              color[c] = std::isfinite(x) ? std::clamp(x, 0.0f, 1.0f) : 1.0f;
+              ck.push_back(bits_of(color[c]));
+            }
+          }
+          for (auto& [n, values] : out.texcoords)
+            for (int c = 0; c < 2; ++c) {
+              float x = attrs.texcoords[n][v][c];
+              ck.push_back(bits_of(std::isfinite(x) ? x : 0.0f));
+            }
           auto [it, inserted] = welded.try_emplace(ck, static_cast<uint32_t>(out.vertex_count()));
           if (inserted) {
             out.positions.insert(out.positions.end(), {p[0], p[1], p[2]});
-            out.uvs.insert(out.uvs.end(), {u, v});
-            if (flat_normals) out.normals.insert(out.normals.end(), normal.begin(), normal.end());
+            out.uvs.insert(out.uvs.end(), {u, w});
+            if (flat_normals || source_normals) out.normals.insert(out.normals.end(), normal.begin(), normal.end());
+            if (colors) out.colors.insert(out.colors.end(), color.begin(), color.end());
+            for (auto& [n, values] : out.texcoords)
+              for (int c = 0; c < 2; ++c) {
+                float x = attrs.texcoords[n][v][c];
+                values.push_back(std::isfinite(x) ? x : 0.0f);
+              }
           }
           out.indices.push_back(it->second);
         }

@@ -15,6 +15,7 @@
 #include "io/glb_container.h"
 #include "io/primitive_geometry.h"
 #include "io/scene_flatten.h"
+#include "io/source_images.h"
 #include "soupuv/errors.h"
 
 namespace soupuv::io {
@@ -55,6 +56,47 @@ void strip_data_uri_payloads(json& doc) {
       b.erase("uri");
 }
 
+// Records source vertex v's kept attributes as soup vertex `at` (arrays grow
+// zero-filled on demand; VertexAttributes::present says what is real).
+void append_attributes(VertexAttributes& out, const detail::PrimitiveGeometry& prim, uint32_t v, size_t at) {
+  out.present.resize(at + 1, 0);
+  out.present[at] = prim.present;
+  auto put = [&](auto& array, const auto& value) {
+    if (array.size() <= at) array.resize(at + 1, {});
+    array[at] = value;
+  };
+  if (!prim.normals.empty()) put(out.normals, prim.normals[v]);
+  if (!prim.colors.empty()) put(out.colors, prim.colors[v]);
+  if (out.texcoords.size() < prim.texcoords.size()) out.texcoords.resize(prim.texcoords.size());
+  for (size_t n = 0; n < prim.texcoords.size(); ++n)
+    if (!prim.texcoords[n].empty()) put(out.texcoords[n], prim.texcoords[n][v]);
+}
+
+// Every non-empty attribute array as long as the soup's positions; no
+// attribute at all: every array empty (present too).
+void finish_attributes(VertexAttributes& a, size_t vertices) {
+  if (a.empty()) {
+    a.present.clear();
+    return;
+  }
+  a.present.resize(vertices, 0);
+  if (!a.normals.empty()) a.normals.resize(vertices, {});
+  if (!a.colors.empty()) a.colors.resize(vertices, {});
+  for (auto& uv : a.texcoords)
+    if (!uv.empty()) uv.resize(vertices, {});
+  while (!a.texcoords.empty() && a.texcoords.back().empty()) a.texcoords.pop_back();
+  for (auto& uv : a.texcoords)
+    if (uv.empty()) uv.resize(vertices, {});
+}
+
+// Warnings repeated per primitive (a dropped attribute kind) said once.
+void dedupe(std::vector<std::string>& warnings) {
+  std::vector<std::string> out;
+  for (auto& w : warnings)
+    if (std::find(out.begin(), out.end(), w) == out.end()) out.push_back(std::move(w));
+  warnings = std::move(out);
+}
+
 // Appends the triangles of one primitive placed by one instance, dropping
 // zero-area ones (exactly zero cross product in world space).
 void append_instance(Asset& asset, const detail::PrimitiveGeometry& prim, uint32_t instance_index,
@@ -80,6 +122,7 @@ void append_instance(Asset& asset, const detail::PrimitiveGeometry& prim, uint32
       uint32_t v = tri[k];
       if (remap[v] == UINT32_MAX) {
         remap[v] = uint32_t(soup.positions.size());
+        append_attributes(asset.attributes, prim, v, soup.positions.size());
         soup.positions.push_back(world[v]);
         const Vec3& l = prim.positions[v];
         asset.local_positions.push_back({float(l.x), float(l.y), float(l.z)});
@@ -142,6 +185,9 @@ Asset load_gltf_document(json doc, std::span<const uint8_t> bin, bool has_bin, F
                       "node " + std::to_string(asset.instances[i].node) + " mesh " +
                           std::to_string(asset.instances[i].mesh) + " primitive " + std::to_string(p));
   }
+  finish_attributes(asset.attributes, asset.soup.positions.size());
+  detail::read_base_color_images(doc, buffers, asset, warnings);
+  dedupe(warnings);
   strip_data_uri_payloads(doc);
   asset.document = std::move(doc);
   return asset;

@@ -16,6 +16,69 @@ std::string name_of(uint64_t mesh, uint64_t primitive) {
   return "mesh " + std::to_string(mesh) + " primitive " + std::to_string(primitive);
 }
 
+// The attributes the output keeps (NORMAL, COLOR_0, TEXCOORD_n) read into
+// `out`, per source vertex; the others are named in `warnings` as dropped.
+// An attribute whose count differs from POSITION's is dropped (warned).
+void read_kept_attributes(const nlohmann::json& doc, BufferTable& buffers, const nlohmann::json& attributes,
+                          size_t vertices, uint64_t max_bytes, const std::string& where, PrimitiveGeometry& out,
+                          std::vector<std::string>& warnings) {
+  for (auto it = attributes.begin(); it != attributes.end(); ++it) {
+    const std::string& name = it.key();
+    if (name == "POSITION") continue;
+    if (!it.value().is_number_unsigned()) fail_input(where + ": attribute " + name.substr(0, 40) + " is not an accessor index");
+    const uint64_t accessor = it.value().get<uint64_t>();
+    int texcoord = -1;
+    if (name.rfind("TEXCOORD_", 0) == 0 && name.size() == 10 && name[9] >= '0' && name[9] < '0' + VertexAttributes::kMaxTexcoords)
+      texcoord = name[9] - '0';
+    if (name != "NORMAL" && name != "COLOR_0" && texcoord < 0) {
+      if (name == "TANGENT")
+        warnings.push_back("TANGENT dropped: tangents follow the source UVs, not the new map; recompute them for TEXCOORD_0");
+      else if (name.rfind("JOINTS_", 0) == 0 || name.rfind("WEIGHTS_", 0) == 0)
+        warnings.push_back("skinning attributes (JOINTS_n/WEIGHTS_n) dropped with the skin: the output is the static bind pose");
+      else
+        warnings.push_back("vertex attribute " + name.substr(0, 40) + " dropped (soupuv keeps NORMAL, COLOR_0, TEXCOORD_n)");
+      continue;
+    }
+    uint64_t components = 0;
+    std::vector<float> v = read_floats(doc, buffers, accessor, max_bytes, components);
+    if (components == 0 || v.size() / components != vertices) {
+      warnings.push_back("vertex attribute " + name + " dropped: its count differs from POSITION's");
+      continue;
+    }
+    const bool ok = (name == "NORMAL" && components == 3) || (name == "COLOR_0" && (components == 3 || components == 4)) ||
+                    (texcoord >= 0 && components == 2);
+    if (!ok) {
+      warnings.push_back("vertex attribute " + name + " dropped: unexpected type");
+      continue;
+    }
+    if (name == "NORMAL") {
+      out.normals.resize(vertices);
+      for (size_t i = 0; i < vertices; ++i) out.normals[i] = {v[3 * i], v[3 * i + 1], v[3 * i + 2]};
+      out.present |= VertexAttributes::kNormal;
+    } else if (name == "COLOR_0") {
+      out.colors.resize(vertices);
+      for (size_t i = 0; i < vertices; ++i)
+        out.colors[i] = {v[components * i], v[components * i + 1], v[components * i + 2],
+                         components == 4 ? v[4 * i + 3] : 1.0f};
+      out.present |= VertexAttributes::kColor;
+    } else {
+      if (out.texcoords.size() <= size_t(texcoord)) out.texcoords.resize(size_t(texcoord) + 1);
+      auto& uv = out.texcoords[size_t(texcoord)];
+      uv.resize(vertices);
+      for (size_t i = 0; i < vertices; ++i) uv[i] = {v[2 * i], v[2 * i + 1]};
+      out.present |= VertexAttributes::texcoord_bit(texcoord);
+    }
+  }
+}
+
+template <class T>
+void gather(std::vector<T>& values, const std::vector<uint32_t>& kept) {
+  if (values.empty()) return;
+  std::vector<T> out(kept.size());
+  for (size_t i = 0; i < kept.size(); ++i) out[i] = values[kept[i]];
+  values = std::move(out);
+}
+
 }  // namespace
 
 uint64_t triangles_for_mode(uint64_t mode, uint64_t n) {
@@ -32,7 +95,8 @@ Tri expand_triangle(uint64_t mode, uint64_t i) {
   return Tri{3 * k, 3 * k + 1, 3 * k + 2};
 }
 
-void compact_and_check(std::vector<Vec3>& positions, std::vector<Tri>& triangles, const std::string& where) {
+void compact_and_check(std::vector<Vec3>& positions, std::vector<Tri>& triangles, const std::string& where,
+                       std::vector<uint32_t>* kept_old) {
   constexpr uint32_t kUnused = UINT32_MAX;
   std::vector<uint32_t> remap(positions.size(), kUnused);
   std::vector<Vec3> kept;
@@ -47,6 +111,7 @@ void compact_and_check(std::vector<Vec3>& positions, std::vector<Tri>& triangles
           fail_input(where + ": vertex " + std::to_string(v) + " has a non-finite position");
         remap[v] = uint32_t(kept.size());
         kept.push_back(p);
+        if (kept_old) kept_old->push_back(v);
       }
       v = remap[v];
     }
@@ -109,10 +174,15 @@ PrimitiveGeometry read_primitive(const nlohmann::json& doc, BufferTable& buffers
                    " triangles but the indices accessor holds " + std::to_string(expected_indices) + " indices");
     }
     // Draco decodes to a triangle list whatever the declared mode.
+    for (auto it = attributes->begin(); it != attributes->end(); ++it)
+      if (it.key() != "POSITION")
+        warnings.push_back("vertex attribute " + it.key().substr(0, 40) +
+                           " of a Draco-compressed primitive dropped (soupuv reads POSITION from Draco)");
     out.positions = std::move(decoded.positions);
     out.triangles = std::move(decoded.triangles);
   } else {
     out.positions = read_positions(doc, buffers, *position_accessor, max_bytes);
+    read_kept_attributes(doc, buffers, *attributes, out.positions.size(), max_bytes, where, out, warnings);
     if (indices_accessor) {
       indices = read_indices(doc, buffers, *indices_accessor, max_bytes);
     } else {
@@ -134,8 +204,12 @@ PrimitiveGeometry read_primitive(const nlohmann::json& doc, BufferTable& buffers
   }
   out.source_index.resize(out.triangles.size());
   for (size_t t = 0; t < out.triangles.size(); ++t) out.source_index[t] = uint32_t(t);
+  std::vector<uint32_t> kept;
   compact_and_check(out.positions, out.triangles,
-                    where + " (POSITION accessor " + std::to_string(*position_accessor) + ")");
+                    where + " (POSITION accessor " + std::to_string(*position_accessor) + ")", &kept);
+  gather(out.normals, kept);
+  gather(out.colors, kept);
+  for (auto& uv : out.texcoords) gather(uv, kept);
   return out;
 }
 

@@ -10,6 +10,7 @@
 //         not matching the accessors.
 #pragma once
 
+#include <array>
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -27,6 +28,12 @@ struct PrimitiveGeometry {
   std::vector<Vec3> positions;
   std::vector<Tri> triangles;
   std::vector<uint32_t> source_index;  // per triangle
+  // Kept attributes, per vertex like `positions` (empty when absent):
+  // VertexAttributes' bits in `present`.
+  uint32_t present = 0;
+  std::vector<std::array<float, 3>> normals;
+  std::vector<std::array<float, 4>> colors;
+  std::vector<std::vector<std::array<float, 2>>> texcoords;  // [n][vertex], n < kMaxTexcoords
 };
 
 // Triangles that `index_count` indices make in glTF `mode` (0 for points/lines).
@@ -37,7 +44,9 @@ Tri expand_triangle(uint64_t mode, uint64_t i);
 
 // Keeps only vertices that triangles use, renumbering the triangles; checks
 // every index is < positions.size() and every used position is finite.
-void compact_and_check(std::vector<Vec3>& positions, std::vector<Tri>& triangles, const std::string& where);
+// `kept`, when given, receives the old index of every kept vertex, in the new order.
+void compact_and_check(std::vector<Vec3>& positions, std::vector<Tri>& triangles, const std::string& where,
+                       std::vector<uint32_t>* kept = nullptr);
 
 PrimitiveGeometry read_primitive(const nlohmann::json& doc, BufferTable& buffers, uint64_t mesh,
                                  uint64_t primitive, uint64_t max_bytes, uint64_t max_triangles,

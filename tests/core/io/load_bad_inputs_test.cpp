@@ -27,7 +27,7 @@ const Bad kBad[] = {
     {"accessor-overrun.glb", ErrorCode::invalid_input, "exceeds its bufferView"},
     {"draco-garbage.glb", ErrorCode::invalid_input, "Draco"},
     {"empty.glb", ErrorCode::invalid_input, "empty"},
-    {"external-uri.gltf", ErrorCode::unsupported, "external URI"},
+    {"external-uri.gltf", ErrorCode::unsupported, "external file"},
     {"index-oob.glb", ErrorCode::invalid_input, "uses vertex"},
     {"length-lie.glb", ErrorCode::invalid_input, "header length"},
     {"nan-position.glb", ErrorCode::invalid_input, "non-finite"},

@@ -10,11 +10,12 @@
 #include <vector>
 
 #include <nlohmann/json.hpp>
+#include "shared_data.h"
 
 namespace soupuv::io::test {
 
 inline std::string data_path(const std::string& relative) {
-  return std::string(SOUPUV_SHARED_DATA) + "/" + relative;
+  return soupuv_test::shared_data_dir() + "/" + relative;
 }
 
 inline std::vector<uint8_t> read_bytes(const std::string& path) {

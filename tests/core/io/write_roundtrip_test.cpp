@@ -11,6 +11,7 @@
 #include "soupuv/io/load.h"
 #include "soupuv/io/write.h"
 #include "write_test_reader.h"
+#include "shared_data.h"
 
 namespace soupuv::io {
 namespace {
@@ -44,7 +45,7 @@ std::vector<Triangle> world_triangles(const Soup& soup) {
 class WriteRoundTrip : public ::testing::TestWithParam<const char*> {};
 
 TEST_P(WriteRoundTrip, SameTrianglesBitForBit) {
-  std::string path = std::string(SOUPUV_SHARED_DATA) + "/" + GetParam();
+  std::string path = soupuv_test::shared_data_dir() + "/" + GetParam();
   LoadOptions options;
   options.allow_external_uris = true;
   Asset before = load_file(path, options);
@@ -93,7 +94,7 @@ TEST(WriteRoundTripDraco, SameTrianglesBitForBit) {
   for (const char* name : {"gltf/CubeScaledInstances/cube_att.gltf", "soups/spot-soup.glb", "gltf/CesiumMan.glb"}) {
     LoadOptions options;
     options.allow_external_uris = true;
-    Asset before = load_file(std::string(SOUPUV_SHARED_DATA) + "/" + name, options);
+    Asset before = load_file(soupuv_test::shared_data_dir() + "/" + name, options);
     WriteOptions write_options;
     write_options.draco = true;
     write_options.check_texture_size = 64;

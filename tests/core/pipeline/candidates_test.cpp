@@ -8,6 +8,7 @@
 #include "soupuv/errors.h"
 #include "soupuv/io/load.h"
 #include "soupuv/quality/uv_metrics.h"
+#include "shared_data.h"
 
 using namespace soupuv;
 using namespace soupuv::testing;
@@ -26,7 +27,7 @@ pipeline::CandidateFigures fig(const char* name, double continuity, double flipp
 Soup fox() {
   io::LoadOptions lo;
   lo.allow_external_uris = true;
-  return io::load_file(std::string(SOUPUV_SHARED_DATA) + "/gltf/Fox/Fox.gltf", lo).soup;
+  return io::load_file(soupuv_test::shared_data_dir() + "/gltf/Fox/Fox.gltf", lo).soup;
 }
 
 // Fox (576 triangles) with two wider merge cones beside the default: session

@@ -9,6 +9,7 @@
 #include "adjacent_pair_set.h"
 #include "soupuv/quality/uv_metrics.h"
 #include "soupuv/quality/weld.h"
+#include "shared_data.h"
 
 using namespace soupuv;
 using namespace soupuv::quality;
@@ -19,7 +20,7 @@ using soupuv::testing::pair_set;
 // welding corners nearest-first joins distinct vertices. Matching edges
 // joins far fewer (measured 430 -> 134 false neighbour pairs).
 TEST(EdgeWeld, TeapotRimHasFewerFalseNeighboursThanCornerWelding) {
-  const std::string dir = SOUPUV_SHARED_DATA;
+  const std::string dir = soupuv_test::shared_data_dir();
   const io::Asset soup = io::load_file(dir + "/soups/teapot-soup.glb");
   const io::Asset original = io::load_file(dir + "/soups/teapot-soup.original.glb");
   const size_t n = soup.soup.triangles.size();
@@ -53,7 +54,7 @@ TEST(EdgeWeld, TeapotRimHasFewerFalseNeighboursThanCornerWelding) {
 // lines (measured: corner weld 448, edge weld 269, both 243 of 9,400; 225
 // with edge fraction 1), and never two corners of one triangle in a group.
 TEST(EdgeWeld, TeapotSeedWeldSplitsFewerNeighboursThanEitherWeld) {
-  const std::string dir = SOUPUV_SHARED_DATA;
+  const std::string dir = soupuv_test::shared_data_dir();
   const io::Asset soup = io::load_file(dir + "/soups/teapot-soup.glb");
   const io::Asset original = io::load_file(dir + "/soups/teapot-soup.original.glb");
   const size_t n = soup.soup.triangles.size();

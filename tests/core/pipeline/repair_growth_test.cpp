@@ -8,6 +8,7 @@
 
 #include "pipeline_support.h"
 #include "soupuv/io/load.h"
+#include "shared_data.h"
 
 using namespace soupuv;
 using namespace soupuv::testing;
@@ -15,7 +16,7 @@ using namespace soupuv::testing;
 TEST(RepairGrowth, FoxLegsAreLessStretched) {
   io::LoadOptions lo;
   lo.allow_external_uris = true;
-  const Soup fox = io::load_file(std::string(SOUPUV_SHARED_DATA) + "/gltf/Fox/Fox.gltf", lo).soup;
+  const Soup fox = io::load_file(soupuv_test::shared_data_dir() + "/gltf/Fox/Fox.gltf", lo).soup;
   MapOptions o = fast_options();
   o.soup_uv_solve = false;  // the repair is the previous UV chain's
   MapOptions once = o;
@@ -36,7 +37,7 @@ TEST(RepairGrowth, FoxLegsAreLessStretched) {
 TEST(RepairGrowth, SizeBoundStopsTheGrowth) {
   io::LoadOptions lo;
   lo.allow_external_uris = true;
-  const Soup fox = io::load_file(std::string(SOUPUV_SHARED_DATA) + "/gltf/Fox/Fox.gltf", lo).soup;
+  const Soup fox = io::load_file(soupuv_test::shared_data_dir() + "/gltf/Fox/Fox.gltf", lo).soup;
   MapOptions o = fast_options();
   o.soup_uv_solve = false;  // the repair is the previous UV chain's
   const MapResult grown = run_map(fox, o);

@@ -14,6 +14,7 @@
 
 #include "pipeline_support.h"
 #include "soupuv/io/load.h"
+#include "shared_data.h"
 
 using namespace soupuv;
 using namespace soupuv::testing;
@@ -21,7 +22,7 @@ using namespace soupuv::testing;
 namespace {
 
 nlohmann::json map_shared(const std::string& name) {
-  const std::string dir = std::string(SOUPUV_SHARED_DATA) + "/soups/";
+  const std::string dir = soupuv_test::shared_data_dir() + "/soups/";
   const Soup soup = io::load_file(dir + name + "-soup.glb").soup;
   const Soup original = io::load_file(dir + name + "-soup.original.glb").soup;
   MapOptions o = fast_options();
@@ -33,7 +34,7 @@ nlohmann::json map_shared(const std::string& name) {
 nlohmann::json map_gltf(const std::string& path) {
   io::LoadOptions lo;
   lo.allow_external_uris = true;
-  const Soup soup = io::load_file(std::string(SOUPUV_SHARED_DATA) + "/gltf/" + path, lo).soup;
+  const Soup soup = io::load_file(soupuv_test::shared_data_dir() + "/gltf/" + path, lo).soup;
   return run_map(soup, fast_options()).diagnostics;
 }
 

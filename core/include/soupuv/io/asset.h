@@ -5,6 +5,7 @@
 #include <array>
 #include <cstddef>
 #include <cstdint>
+#include <map>
 #include <string>
 #include <vector>
 
@@ -26,6 +27,31 @@ struct MeshInstance {
   int32_t node = -1;   // the node carrying the mesh (-1 for a raw .drc)
   int32_t mesh = 0;
   Mat4 world{1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1};  // local -> world
+};
+
+// Vertex attributes other than POSITION, one entry per soup vertex (parallel
+// to Soup::positions), as the source stored them in the primitive's own frame.
+// An array is empty when no primitive had the attribute; `present` says, per
+// soup vertex, which ones its primitive had (bits below), since primitives may
+// differ. Read from plain accessors only (Draco payloads: POSITION only).
+struct VertexAttributes {
+  static constexpr uint32_t kNormal = 1u, kColor = 2u;
+  static constexpr uint32_t texcoord_bit(int n) { return 4u << n; }
+  static constexpr int kMaxTexcoords = 8;
+  std::vector<uint32_t> present;                       // bit mask per soup vertex
+  std::vector<std::array<float, 3>> normals;           // NORMAL
+  std::vector<std::array<float, 4>> colors;            // COLOR_0 as RGBA (alpha 1 when VEC3)
+  std::vector<std::vector<std::array<float, 2>>> texcoords;  // [n][vertex]: TEXCOORD_n
+  bool empty() const { return normals.empty() && colors.empty() && texcoords.empty(); }
+};
+
+// A material's base-colour texture image as the source holds it (encoded
+// PNG/JPEG bytes), for re-baking onto the new map.
+struct SourceImage {
+  std::vector<uint8_t> bytes;
+  std::string mime_type;
+  int tex_coord = 0;            // which TEXCOORD_n it is sampled through
+  int wrap_s = 10497, wrap_t = 10497;  // sampler wrap modes (REPEAT default)
 };
 
 struct Asset {
@@ -56,6 +82,10 @@ struct Asset {
   // exactly under identity transforms.
   std::vector<uint32_t> triangle_instance;
   std::vector<MeshInstance> instances;
+
+  VertexAttributes attributes;
+  // Base-colour images by material index (materials whose image could be read).
+  std::map<int32_t, SourceImage> base_color_images;
 };
 
 }  // namespace soupuv::io

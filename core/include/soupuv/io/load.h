@@ -18,7 +18,9 @@ namespace soupuv::io {
 
 struct LoadOptions {
   // External buffer/image URIs are refused unless this is set AND base_dir is
-  // given; the server never sets it. data: URIs are always allowed.
+  // given (load_file gives the file's own folder). The CLI sets it unless
+  // --no-external-files; the server's workers load an upload's own folder.
+  // data: URIs are always allowed.
   bool allow_external_uris = false;
   std::string base_dir;
   uint64_t max_bytes = 1ull << 30;        // input file size limit

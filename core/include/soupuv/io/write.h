@@ -13,8 +13,13 @@
 //    TRS, children, scenes kept); one output mesh per (node, mesh) instance,
 //    because each instance of a mesh gets its own UVs; one output primitive per
 //    source primitive that still has triangles, with its material;
-//  - vertices are welded where local position AND UV agree, so they are split
-//    exactly where UVs differ; TEXCOORD_0 is float32;
+//  - vertices are welded where local position, UV and every kept attribute
+//    agree, so they are split exactly where UVs differ; TEXCOORD_0 (the new
+//    map) is float32;
+//  - vertex attributes kept from the source (Asset::attributes): NORMAL
+//    (normalized; flat when options.normals), COLOR_0 (as float RGBA, unless
+//    !keep_colors), and every TEXCOORD_n moved to TEXCOORD_n+1; the loader
+//    warns about the ones it dropped (TANGENT, JOINTS/WEIGHTS, others);
 //  - materials keep name, factors, alphaMode, alphaCutoff, doubleSided,
 //    emissiveFactor; baseColorTexture becomes our texture on TEXCOORD_0; other
 //    textures (they referred to the old UVs) and material extensions are dropped
@@ -49,6 +54,10 @@ struct WriteOptions {
   // Draco quantization bits; 0 keeps the float32 values lossless (bit-exact).
   int draco_position_bits = 0;
   int draco_texcoord_bits = 0;
+  // COLOR_0 from the source; off when the colours were baked into the texture
+  // (glTF multiplies COLOR_0 into the base colour: it would count twice).
+  bool keep_colors = true;
+  std::string texture_name;  // the image's name ("" : by its kind)
   std::string generator = "soupuv";
 };
 
@@ -61,6 +70,7 @@ struct WriteResult {
   size_t triangles = 0;
   size_t nonfinite_uvs = 0;  // corners whose UV was NaN/inf, written as (0,0)
   size_t degenerate_normals = 0;  // with normals: triangles degenerate in float (+z written)
+  std::vector<std::string> attributes;  // vertex attributes written (glTF names)
   double seconds = 0;
 };
 

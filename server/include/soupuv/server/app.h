@@ -14,6 +14,7 @@
 
 #include "soupuv/server/auth.h"
 #include "soupuv/server/blob_store.h"
+#include "soupuv/server/callbacks.h"
 #include "soupuv/server/config.h"
 #include "soupuv/server/files.h"
 #include "soupuv/server/http_server.h"
@@ -51,6 +52,7 @@ struct ServerContext {
   std::string worker_bin;  // empty: none found
   WorkerCapabilities caps;
   std::unique_ptr<Scheduler> scheduler;
+  std::unique_ptr<CallbackSender> callbacks;  // set when --callback-secret is
   std::map<std::string, WebAsset> web;  // URL path -> asset, loaded at start
   std::string openapi_yaml;
   std::atomic<int> validations_running{0};

@@ -71,6 +71,10 @@ struct Config {
   std::string database_url;
   double lease_seconds = 30;            // a claimed job's lease; renewed 5 times per lease
   int poll_interval_ms = 1000;          // idle workers look at the shared queue this often (NOTIFY wakes them sooner)
+  // Job-end callbacks (callbacks.h): the HMAC key (empty: callback_url is
+  // refused), and whether loopback/private targets are allowed (tests, LANs).
+  std::string callback_secret;
+  bool callback_allow_private = false;
   std::string log_level = "info";
 
   int threads_per_job() const;

@@ -68,11 +68,15 @@ class Scheduler {
   int busy_workers() const;
   int workers() const { return int(threads_.size()); }
   const WorkerCapabilities& capabilities() const { return caps_; }
+  // Called with a job's id once its end (succeeded, failed, canceled) is
+  // stored; set before start(). The job-end callbacks hang here.
+  void set_on_finish(std::function<void(const std::string&)> f) { on_finish_ = std::move(f); }
 
  private:
   void worker_loop();
   void claim_loop(int slot);   // shared queue
   void heartbeat_loop();       // shared queue
+  std::function<void(const std::string&)> on_finish_;
   // True when the job should run again (a retryable failure, or its start
   // could not be recorded); worker_loop re-queues it once it is off running_.
   bool run_job(const std::string& id);

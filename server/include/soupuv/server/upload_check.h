@@ -3,8 +3,10 @@
 //  - GLB: magic, version 2, declared length == bytes received, a JSON first
 //    chunk inside the file, that JSON parses;
 //  - glTF JSON: parses;
-//  - both: every buffer/image `uri` must be a data: URI (external references
-//    are refused: the server never reads files named by an upload);
+//  - both: every buffer/image `uri` must be a data: URI, or, for a folder
+//    upload (`folder`), a plain relative path (no scheme, no absolute path,
+//    no '..'): the worker then reads it from the upload's own folder; the
+//    server itself never reads files named by an upload;
 //  - Draco: the "DRACO" magic.
 // Input: the file on disk and its declared kind. Output: ok, or a 400 reason.
 #pragma once
@@ -22,7 +24,7 @@ struct UploadVerdict {
   std::string detail;  // one line
 };
 
-UploadVerdict check_model_file(const std::filesystem::path& file, ModelKind kind);
+UploadVerdict check_model_file(const std::filesystem::path& file, ModelKind kind, bool folder = false);
 const char* file_name_for(ModelKind kind);  // input.glb / input.gltf / input.drc
 
 }  // namespace soupuv::server
