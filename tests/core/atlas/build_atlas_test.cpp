@@ -10,9 +10,9 @@
 
 #include "atlas_checks.h"
 #include "soupuv/atlas/build_atlas.h"
-#include "soupuv/atlas/test_meshes.h"
+#include "testing/test_meshes.h"
 #include "soupuv/errors.h"
-#include "soupuv/shapes.h"
+#include "testing/shapes.h"
 
 namespace soupuv::atlas {
 namespace {

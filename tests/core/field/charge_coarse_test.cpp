@@ -8,12 +8,12 @@
 #include <cmath>
 #include <random>
 
-#include "../../../core/src/field/charge_coarse.h"
-#include "../../../core/src/field/collocation.h"
+#include "field/charge_coarse.h"
+#include "field/collocation.h"
 #include "soupuv/field/direct.h"
 #include "soupuv/field/field.h"
 #include "soupuv/field/sources.h"
-#include "soupuv/shapes.h"
+#include "testing/shapes.h"
 
 using namespace soupuv;
 using namespace soupuv::field;
