@@ -39,19 +39,10 @@ nlohmann::json parts(const io::Asset& asset) {
 
 }  // namespace
 
-int run_inspect(const std::vector<std::string>& args) {
-  std::string input;
-  bool allow_external = false;
-  for (const std::string& a : args) {
-    if (a == "--allow-external-uris") allow_external = true;
-    else if (!a.empty() && a[0] == '-') throw UsageError{"inspect: unknown option " + a};
-    else if (input.empty()) input = a;
-    else throw UsageError{"inspect takes one input file"};
-  }
-  if (input.empty()) throw UsageError{"inspect needs an input file"};
-
+int run_inspect(const InspectArgs& args) {
+  const std::string& input = args.input;
   io::LoadOptions options;
-  options.allow_external_uris = allow_external;
+  options.allow_external_uris = args.allow_external_uris;
   io::Asset asset = io::load_file(input, options);
   const Soup& soup = asset.soup;
   Box3 box = bounding_box(soup);
