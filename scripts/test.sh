@@ -24,7 +24,7 @@ echo "== release tests"
 SOUPUV_REQUEST_FUZZ_SECONDS=${SOUPUV_REQUEST_FUZZ_SECONDS:-60} \
   ctest --test-dir build/release --output-on-failure -j "$jobs" --timeout 900
 
-echo "== sanitizer build (ASan + UBSan)"
+echo "== sanitizer build (ASan + UBSan), at ${SECONDS}s"
 cmake -S . -B build/asan -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DSOUPUV_SANITIZE=ON \
       -DSOUPUV_BUILD_SERVER=OFF >/dev/null
 # Only the SANITIZE suites (tests/CMakeLists.txt: those facing untrusted input,
@@ -43,7 +43,7 @@ for s in $suites; do
 done
 if has_target soupuv; then targets="$targets soupuv"; else echo "no soupuv target in build/asan" >&2; exit 1; fi
 cmake --build build/asan -j "$jobs" --target $targets
-echo "== sanitizer tests"
+echo "== sanitizer tests, at ${SECONDS}s"
 # SOUPUV_TEST_SIZE=reduced: the slow tests run smaller or, when they only
 # measure scale, are skipped (tests/support/test_size.h).
 SOUPUV_TEST_SIZE=reduced ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 UBSAN_OPTIONS=print_stacktrace=1 \
@@ -54,4 +54,4 @@ if [ -x scripts/fuzz.sh ]; then
   echo "== fuzzing (bounded)"
   bash scripts/fuzz.sh
 fi
-echo "== all tests passed"
+echo "== all tests passed, in ${SECONDS}s"
