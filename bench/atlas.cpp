@@ -15,10 +15,10 @@
 
 #include "bench_registry.h"
 #include "soupuv/atlas/build_atlas.h"
-#include "soupuv/atlas/test_meshes.h"
+#include "testing/test_meshes.h"
 #include "soupuv/io/load.h"
 #include "soupuv/proxy/proxy.h"
-#include "soupuv/shapes.h"
+#include "testing/shapes.h"
 
 namespace {
 
@@ -35,17 +35,17 @@ int run_atlas(const bench::Args& args) {
       {"torus_5k", [] { return shapes::torus_with(1.0, 0.3, 5000); }},
       {"cube_1.7k", [] { return shapes::cube(2.0, 12); }},
       {"cylinder_2.6k", [] { return shapes::cylinder(0.5, 2.0, 48, 16, 6); }},
-      {"genus3_12k", [] { return atlas::test_meshes::fused_tori(3, 12000); }},
-      {"drilled_block_10k", [] { return atlas::test_meshes::drilled_block(10000); }},
+      {"genus3_12k", [] { return test_meshes::fused_tori(3, 12000); }},
+      {"drilled_block_10k", [] { return test_meshes::drilled_block(10000); }},
   };
   if (!args.quick) {
     cases.push_back({"sphere_50k", [] { return shapes::sphere_with(1.0, 50000); }});
     cases.push_back({"torus_51k", [] { return shapes::torus_with(1.0, 0.3, 51200); }});
-    cases.push_back({"genus3_40k", [] { return atlas::test_meshes::fused_tori(3, 40000); }});
+    cases.push_back({"genus3_40k", [] { return test_meshes::fused_tori(3, 40000); }});
     cases.push_back({"sphere_100k", [] { return shapes::sphere_with(1.0, 100000); }});
     cases.push_back({"torus_102k", [] { return shapes::torus_with(1.0, 0.3, 102400); }});
-    cases.push_back({"genus3_100k", [] { return atlas::test_meshes::fused_tori(3, 100000); }});
-    cases.push_back({"drilled_block_100k", [] { return atlas::test_meshes::drilled_block(100000); }});
+    cases.push_back({"genus3_100k", [] { return test_meshes::fused_tori(3, 100000); }});
+    cases.push_back({"drilled_block_100k", [] { return test_meshes::drilled_block(100000); }});
     for (std::string name : {"spot", "fandisk", "suzanne"})
       cases.push_back({name + "_proxy", [name] {
                          io::Asset asset = io::load_file(std::string(SOUPUV_SHARED_DATA) +

@@ -33,13 +33,13 @@
 #include <iostream>
 #include <sstream>
 
-#include "../core/src/pipeline/field_branch.h"
-#include "../core/src/pipeline/shared_seeds.h"
+#include "pipeline/field_branch.h"
+#include "pipeline/shared_seeds.h"
 #include "bench_registry.h"
 #include "soupuv/cache/store.h"
 #include "soupuv/pipeline.h"
 #include "soupuv/quality/weld.h"
-#include "soupuv/shapes.h"
+#include "testing/shapes.h"
 #include "soupuv/transfer/intersect.h"
 #include "soupuv/transfer/orient.h"
 

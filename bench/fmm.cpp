@@ -7,7 +7,7 @@
 #include "bench_registry.h"
 #include "soupuv/field/direct.h"
 #include "soupuv/field/fmm.h"
-#include "soupuv/shapes.h"
+#include "testing/shapes.h"
 
 using namespace soupuv;
 using namespace soupuv::field;

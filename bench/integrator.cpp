@@ -20,7 +20,7 @@
 
 #include "bench_registry.h"
 #include "soupuv/field/field.h"
-#include "soupuv/shapes.h"
+#include "testing/shapes.h"
 
 using namespace soupuv;
 using namespace soupuv::field;

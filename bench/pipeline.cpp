@@ -48,7 +48,7 @@
 #include "soupuv/cache/store.h"
 #include "soupuv/io/load.h"
 #include "soupuv/pipeline.h"
-#include "soupuv/shapes.h"
+#include "testing/shapes.h"
 
 namespace {
 

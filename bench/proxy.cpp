@@ -31,7 +31,7 @@
 #include "soupuv/errors.h"
 #include "soupuv/io/load.h"
 #include "soupuv/proxy/proxy.h"
-#include "soupuv/shapes.h"
+#include "testing/shapes.h"
 
 namespace soupuv::bench {
 namespace {

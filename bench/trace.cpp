@@ -43,7 +43,7 @@
 #include "soupuv/field/field.h"
 #include "soupuv/field/fmm.h"
 #include "soupuv/field/tracer_field.h"
-#include "soupuv/shapes.h"
+#include "testing/shapes.h"
 
 using namespace soupuv;
 using namespace soupuv::field;

@@ -14,6 +14,7 @@ build_packages=(
   libcpp-httplib-dev nlohmann-json3-dev libtinygltf-dev libstb-dev libdraco-dev
   libeigen3-dev libcgal-dev libgmp-dev libmpfr-dev libboost-dev
   libspdlog-dev libfmt-dev libsqlite3-dev libssl-dev libpq-dev libzip-dev
+  libcli11-dev libxxhash-dev
 )
 # Tests only: GoogleTest, clang + libFuzzer and OpenMP for it (fuzz target),
 # chromium (browser test), nginx (reverse-proxy test), curl, python3-yaml

@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # Installs, builds and runs every test: the README's test command, and what
 # .ci/run calls. Two build trees: release (every suite, benchmarks in --quick
-# mode) and asan (AddressSanitizer + UBSan over the suites facing untrusted input).
+# mode) and asan (AddressSanitizer + UBSan over the suites facing untrusted
+# input and the numeric kernels: field, proxy, atlas, at reduced sizes).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 root=$(pwd)
@@ -32,11 +33,12 @@ echo "== release tests"
 SOUPUV_REQUEST_FUZZ_SECONDS=${SOUPUV_REQUEST_FUZZ_SECONDS:-60} \
   ctest --test-dir build/release --output-on-failure -j "$jobs" --timeout 900 | tee "$logs/release.txt"
 
-echo "== sanitizer build (ASan + UBSan)"
+echo "== sanitizer build (ASan + UBSan), at ${SECONDS}s"
 cmake -S . -B build/asan -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DSOUPUV_SANITIZE=ON \
       -DSOUPUV_BUILD_SERVER=OFF >/dev/null
-# Only the suites facing untrusted input (SANITIZE in tests/CMakeLists.txt)
-# and the CLI are built here, to keep CI short.
+# Only the SANITIZE suites (tests/CMakeLists.txt: those facing untrusted input,
+# and field, proxy and atlas for their SIMD kernels and padded arrays) and the
+# CLI are built here, to keep CI short.
 suites=$(tr ';' ' ' < build/asan/sanitize_suites.txt)
 # The target list goes into a variable, never straight into `grep -q`: under
 # pipefail, grep quitting at its first match can kill ninja with SIGPIPE and
@@ -50,8 +52,10 @@ for s in $suites; do
 done
 if has_target soupuv; then targets="$targets soupuv"; else echo "no soupuv target in build/asan" >&2; exit 1; fi
 cmake --build build/asan -j "$jobs" --target $targets
-echo "== sanitizer tests"
-ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 UBSAN_OPTIONS=print_stacktrace=1 \
+echo "== sanitizer tests, at ${SECONDS}s"
+# SOUPUV_TEST_SIZE=reduced: the slow tests run smaller or, when they only
+# measure scale, are skipped (tests/support/test_size.h).
+SOUPUV_TEST_SIZE=reduced ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 UBSAN_OPTIONS=print_stacktrace=1 \
   ctest --test-dir build/asan --output-on-failure -j "$jobs" --timeout 900 -R "${regex#|}" \
         -E '^cli\.field\.' | tee "$logs/asan.txt"  # the field method end to end is minutes under ASan; its parts run above
 
@@ -59,5 +63,5 @@ if [ -x scripts/fuzz.sh ]; then
   echo "== fuzzing (bounded)"
   bash scripts/fuzz.sh
 fi
-echo "== all tests passed; skipped: $(skipped "$logs/release.txt") release, $(skipped "$logs/asan.txt") sanitizer"
+echo "== all tests passed in ${SECONDS}s; skipped: $(skipped "$logs/release.txt") release, $(skipped "$logs/asan.txt") sanitizer"
 grep -h '(Skipped)' "$logs/release.txt" "$logs/asan.txt" | sed 's/^/   skipped: /' || true

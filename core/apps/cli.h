@@ -34,8 +34,14 @@ struct IoError {
   std::string message;
 };
 
-int run_inspect(const std::vector<std::string>& args);
-int run_map(const std::vector<std::string>& args);
+struct InspectArgs {
+  std::string input;
+  bool external_files = true;  // like map: files beside a .gltf are read (--no-external-files: off)
+};
+struct MapArgs;  // map_flags.h
+
+int run_inspect(const InspectArgs& args);
+int run_map(const MapArgs& args);
 
 // Writes bytes to path through a temporary file and a rename, so that a
 // reader (or a canceled run) never sees half a file. Throws IoError.

@@ -39,19 +39,10 @@ nlohmann::json parts(const io::Asset& asset) {
 
 }  // namespace
 
-int run_inspect(const std::vector<std::string>& args) {
-  std::string input;
-  bool allow_external = true;  // like map: files beside a .gltf are read
-  for (const std::string& a : args) {
-    if (a == "--no-external-files") allow_external = false;
-    else if (!a.empty() && a[0] == '-') throw UsageError{"inspect: unknown option " + a};
-    else if (input.empty()) input = a;
-    else throw UsageError{"inspect takes one input file"};
-  }
-  if (input.empty()) throw UsageError{"inspect needs an input file"};
-
+int run_inspect(const InspectArgs& args) {
+  const std::string& input = args.input;
   io::LoadOptions options;
-  options.allow_external_uris = allow_external;
+  options.allow_external_uris = args.external_files;
   io::Asset asset = io::load_file(input, options);
   const Soup& soup = asset.soup;
   Box3 box = bounding_box(soup);

@@ -7,6 +7,7 @@
 #include <nlohmann/json.hpp>
 
 #include "cli.h"
+#include "map_flags.h"
 #include "progress_report.h"
 #include "soupuv/bake/rebake.h"
 #include "soupuv/io/load.h"
@@ -16,54 +17,6 @@
 namespace soupuv::cli {
 
 namespace {
-
-struct MapArgs {
-  std::string input, output, diagnostics, method = kDefaultMethod, texture;
-  int texture_size = 1024;
-  bool draco = false, normals = false;
-  bool external_files = true;  // a .gltf's .bin and images beside it (--no-external-files: off)
-  std::optional<bool> rebake;  // --rebake / --no-rebake; unset: when the input has a base colour
-  ProgressMode progress = ProgressMode::bar;
-  MethodFlags method_flags;  // the UV methods' own options (uv_method.h)
-};
-
-MapArgs parse(const std::vector<std::string>& args) {
-  MapArgs m;
-  for (size_t i = 0; i < args.size(); ++i) {
-    const std::string& a = args[i];
-    auto value = [&]() -> const std::string& {
-      if (i + 1 >= args.size()) throw UsageError{a + " needs a value"};
-      return args[++i];
-    };
-    if (a == "-o" || a == "--output") m.output = value();
-    else if (a == "--diagnostics") m.diagnostics = value();
-    else if (a == "--method") m.method = value();
-    else if (a == "--texture") m.texture = value();
-    else if (a == "--texture-size") {
-      const std::string& v = value();
-      try {
-        m.texture_size = std::stoi(v);
-      } catch (const std::exception&) {
-        throw UsageError{"--texture-size needs a number, not '" + v + "'"};
-      }
-    }
-    else if (a == "--draco") m.draco = true;
-    else if (a == "--normals") m.normals = true;
-    else if (a == "--no-external-files") m.external_files = false;
-    else if (a == "--rebake") m.rebake = true;
-    else if (a == "--no-rebake") m.rebake = false;
-    else if (a == "--progress") m.progress = parse_progress_mode(value());
-    else if (parse_method_flag(args, i, m.method_flags)) continue;
-    else if (!a.empty() && a[0] == '-') throw UsageError{"map: unknown option " + a};
-    else if (m.input.empty()) m.input = a;
-    else throw UsageError{"map takes one input file"};
-  }
-  if (m.input.empty()) throw UsageError{"map needs an input file"};
-  if (m.output.empty()) throw UsageError{"map needs -o OUT.glb"};
-  check_writable_destination(m.output);
-  if (!m.diagnostics.empty()) check_writable_destination(m.diagnostics);
-  return m;
-}
 
 const char* format_name(io::Format f) {
   switch (f) {
@@ -80,8 +33,10 @@ double seconds_since(std::chrono::steady_clock::time_point start) {
 
 }  // namespace
 
-int run_map(const std::vector<std::string>& args) {
-  MapArgs m = parse(args);
+int run_map(const MapArgs& m) {
+  // Checked before a long run, so a typo costs no minutes of work.
+  check_writable_destination(m.output);
+  if (!m.diagnostics.empty()) check_writable_destination(m.diagnostics);
   Progress progress = make_progress(m.progress);
   cancel_on_signals(progress);
   nlohmann::json stages = nlohmann::json::object();

@@ -18,7 +18,7 @@ namespace soupuv::cli {
 // The method `map` uses when --method is absent.
 inline constexpr const char* kDefaultMethod = "field";
 
-// Flags of the UV methods (listed in `soupuv --help`).
+// Flags of the UV methods (rows of the flag table, map_flags.cpp).
 struct MethodFlags {
   MapOptions options;
   std::string cache_dir;     // on-disk cache shared between runs and processes
@@ -27,10 +27,6 @@ struct MethodFlags {
   std::string original;      // continuity reference: welded mesh, same triangle order
   std::string seam_hints;    // JSON file: [[[x,y,z], ...], ...]
 };
-
-// If args[i] is a method flag, consumes it (and its value: i advances) and
-// returns true. Throws UsageError for a bad value.
-bool parse_method_flag(const std::vector<std::string>& args, size_t& i, MethodFlags& flags);
 
 struct MethodRun {
   std::vector<Vec2> corner_uvs;  // 3 per soup triangle

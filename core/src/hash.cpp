@@ -2,31 +2,33 @@
 
 #include <cstdio>
 
+// Header-only use of libxxhash: no shared library to ship in the runtime image.
+#define XXH_INLINE_ALL
+#include <xxhash.h>
+
 namespace soupuv {
 
-namespace {
-uint64_t mix(uint64_t x) {  // splitmix64 finaliser
-  x ^= x >> 30; x *= 0xbf58476d1ce4e5b9ull;
-  x ^= x >> 27; x *= 0x94d049bb133111ebull;
-  x ^= x >> 31;
-  return x;
-}
-}  // namespace
+struct Hasher::State {
+  XXH3_state_t xxh;
+};
+
+Hasher::Hasher() : state_(std::make_unique<State>()) { XXH3_128bits_reset(&state_->xxh); }
+Hasher::~Hasher() = default;
+Hasher::Hasher(Hasher&&) noexcept = default;
+Hasher& Hasher::operator=(Hasher&&) noexcept = default;
 
 void Hasher::add_bytes(const void* data, size_t size) {
-  const auto* p = static_cast<const unsigned char*>(data);
-  for (size_t i = 0; i < size; ++i) {
-    a_ = (a_ ^ p[i]) * 0x100000001b3ull;
-    b_ = (b_ ^ p[i]) * 0x00000100000001b3ull + 0x9e3779b97f4a7c15ull;
-  }
+  if (size > 0) XXH3_128bits_update(&state_->xxh, data, size);
 }
 
 std::string Hasher::hex() const {
+  const XXH128_hash_t h = XXH3_128bits_digest(&state_->xxh);
   char buf[33];
-  std::snprintf(buf, sizeof buf, "%016llx%016llx",
-                static_cast<unsigned long long>(mix(a_ ^ mix(b_))),
-                static_cast<unsigned long long>(mix(b_ + 0x632be59bd9b4e019ull)));
+  std::snprintf(buf, sizeof buf, "%016llx%016llx", static_cast<unsigned long long>(h.high64),
+                static_cast<unsigned long long>(h.low64));
   return buf;
 }
+
+uint64_t hash64(const void* data, size_t size) { return XXH3_64bits(data, size); }
 
 }  // namespace soupuv

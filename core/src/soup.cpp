@@ -33,20 +33,27 @@ double mean_edge_length(const Soup& soup) {
 }
 
 std::string geometry_hash(const Soup& soup) {
+  // The corners' positions in triangle order, so a soup and the same
+  // triangles with shared vertices hash alike. A soup stored corner by corner
+  // (vertex 3t + k is corner k of triangle t, what the loader makes) is hashed
+  // as its position array in one call: the same bytes, the same digest.
   Hasher h;
-  h.add(soup.triangles.size());
-  for (const Tri& t : soup.triangles)
-    for (uint32_t v : t) h.add(soup.positions[v]);
+  h.add(uint64_t(soup.triangles.size()));
+  bool corner_order = soup.positions.size() == 3 * soup.triangles.size();
+  for (size_t t = 0; corner_order && t < soup.triangles.size(); ++t)
+    corner_order = soup.triangles[t] == Tri{uint32_t(3 * t), uint32_t(3 * t + 1), uint32_t(3 * t + 2)};
+  if (corner_order) {
+    h.add_bytes(soup.positions.data(), soup.positions.size() * sizeof(Vec3));
+  } else {
+    for (const Tri& t : soup.triangles)
+      for (uint32_t v : t) h.add(soup.positions[v]);
+  }
   return h.hex();
 }
 
 namespace {
 struct Vec3BitsHash {
-  size_t operator()(const Vec3& p) const {
-    Hasher h;
-    h.add(p);
-    return std::hash<std::string>()(h.hex());
-  }
+  size_t operator()(const Vec3& p) const { return size_t(hash64(&p, sizeof p)); }
 };
 struct Vec3BitsEq {
   bool operator()(const Vec3& a, const Vec3& b) const {

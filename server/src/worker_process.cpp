@@ -292,6 +292,17 @@ ProcessOutcome run_process(const std::vector<std::string>& args, const std::vect
     lines.add(buf, size_t(n), out.stderr_tail);
   }
   lines.flush();
+  // stdout too: a worker that printed more than one read's worth and exited
+  // at once (`soupuv capabilities --json`) left the rest in the pipe.
+  fcntl(child.out(), F_SETFL, fcntl(child.out(), F_GETFL) | O_NONBLOCK);
+  while (!out.output_exceeded) {
+    char buf[8192];
+    ssize_t n = read(child.out(), buf, sizeof buf);
+    if (n <= 0) break;
+    const size_t room = size_t(std::max<int64_t>(0, limits.stdout_bytes - int64_t(out.stdout_text.size())));
+    out.stdout_text.append(buf, std::min(room, size_t(n)));
+    out.output_exceeded = size_t(n) > room;
+  }
   out.seconds = since(t0);
   if (WIFEXITED(status)) out.exit_code = WEXITSTATUS(status);
   if (WIFSIGNALED(status)) out.signal = WTERMSIG(status);

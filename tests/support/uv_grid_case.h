@@ -8,7 +8,7 @@
 
 #include "soupuv/mesh.h"
 #include "soupuv/quality/weld.h"
-#include "soupuv/shapes.h"
+#include "testing/shapes.h"
 #include "soupuv/soup.h"
 
 namespace soupuv::testing {

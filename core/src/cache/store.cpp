@@ -19,7 +19,13 @@ namespace fs = std::filesystem;
 
 namespace {
 
-constexpr char kMagic[8] = {'S', 'O', 'U', 'P', 'U', 'V', 'C', '1'};
+// File layout version: C2 since the content hash became XXH3. A C1 file sits
+// under a key no new key equals (kKeyVersion), and would fail this check.
+constexpr char kMagic[8] = {'S', 'O', 'U', 'P', 'U', 'V', 'C', '2'};
+
+// Hashed ahead of every key's parts: keys made by another hash or another key
+// layout can never equal one of these. Bump it when either changes.
+constexpr std::string_view kKeyVersion = "soupuv-cache-key/xxh3-128/1";
 
 std::string content_hash(const uint8_t* data, size_t size) {
   Hasher h;
@@ -45,6 +51,7 @@ bool write_all(int fd, const uint8_t* data, size_t size) {
 
 std::string cache_key(std::initializer_list<std::string_view> parts) {
   Hasher h;
+  h.add(kKeyVersion);
   for (std::string_view p : parts) h.add(p);
   return h.hex();
 }

@@ -9,8 +9,8 @@
 #include <random>
 #include <set>
 
-#include "../../../core/src/atlas/chart_raster.h"
-#include "../../../core/src/atlas/raster_pack.h"
+#include "atlas/chart_raster.h"
+#include "atlas/raster_pack.h"
 
 namespace soupuv::atlas {
 namespace {

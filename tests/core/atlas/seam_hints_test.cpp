@@ -8,7 +8,7 @@
 #include <set>
 
 #include "soupuv/atlas/build_atlas.h"
-#include "soupuv/shapes.h"
+#include "testing/shapes.h"
 
 namespace soupuv::atlas {
 namespace {

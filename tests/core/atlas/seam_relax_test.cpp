@@ -8,11 +8,11 @@
 #include <map>
 #include <random>
 
-#include "../../../core/src/atlas/max_flow.h"
+#include "atlas/max_flow.h"
 #include "atlas_checks.h"
 #include "soupuv/atlas/build_atlas.h"
 #include "soupuv/errors.h"
-#include "soupuv/shapes.h"
+#include "testing/shapes.h"
 
 namespace soupuv::atlas {
 namespace {

@@ -13,7 +13,7 @@
 #include "atlas_checks.h"
 #include "soupuv/atlas/build_atlas.h"
 #include "soupuv/errors.h"
-#include "soupuv/shapes.h"
+#include "testing/shapes.h"
 
 namespace soupuv::atlas {
 namespace {

@@ -5,11 +5,11 @@
 
 #include <cstdio>
 
-#include "../../../core/src/atlas/chart_mesh.h"
-#include "../../../core/src/atlas/mesh_topology.h"
-#include "../../../core/src/atlas/parameterize.h"
-#include "../../../core/src/atlas/stretch_descent.h"
-#include "soupuv/shapes.h"
+#include "atlas/chart_mesh.h"
+#include "atlas/mesh_topology.h"
+#include "atlas/parameterize.h"
+#include "atlas/stretch_descent.h"
+#include "testing/shapes.h"
 
 namespace soupuv::atlas {
 namespace {

@@ -4,7 +4,7 @@
 
 #include "soupuv/errors.h"
 #include "soupuv/progress.h"
-#include "soupuv/shapes.h"
+#include "testing/shapes.h"
 #include "soupuv/soup.h"
 
 using namespace soupuv;

@@ -7,7 +7,7 @@
 
 #include "soupuv/baseline/box_projection.h"
 #include "soupuv/errors.h"
-#include "soupuv/shapes.h"
+#include "testing/shapes.h"
 
 namespace soupuv::baseline {
 namespace {

@@ -9,10 +9,10 @@
 #include <cmath>
 #include <random>
 
-#include "../../../core/src/field/collocation.h"
-#include "../../../core/src/field/gmres.h"
+#include "field/collocation.h"
+#include "field/gmres.h"
 #include "soupuv/field/sources.h"
-#include "soupuv/shapes.h"
+#include "testing/shapes.h"
 
 using namespace soupuv;
 using namespace soupuv::field;

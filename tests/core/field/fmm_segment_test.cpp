@@ -7,7 +7,7 @@
 #include "soupuv/field/fmm.h"
 #include "soupuv/field/sources.h"
 #include "soupuv/field/triangle_integrals.h"
-#include "soupuv/shapes.h"
+#include "testing/shapes.h"
 
 using namespace soupuv;
 using namespace soupuv::field;

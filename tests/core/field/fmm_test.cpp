@@ -9,7 +9,7 @@
 #include "soupuv/field/direct.h"
 #include "soupuv/field/fmm.h"
 #include "soupuv/field/taylor.h"
-#include "soupuv/shapes.h"
+#include "testing/shapes.h"
 
 using namespace soupuv;
 using namespace soupuv::field;

@@ -10,7 +10,7 @@
 #include <cstdio>
 
 #include "soupuv/field/field.h"
-#include "soupuv/shapes.h"
+#include "testing/shapes.h"
 
 using namespace soupuv;
 using namespace soupuv::field;

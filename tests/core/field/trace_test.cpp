@@ -8,7 +8,7 @@
 
 #include "soupuv/field/field.h"
 #include "soupuv/field/triangle_integrals.h"
-#include "soupuv/shapes.h"
+#include "testing/shapes.h"
 
 using namespace soupuv;
 using namespace soupuv::field;

@@ -10,8 +10,8 @@
 #include <random>
 #include <vector>
 
-#include "../../../core/src/field/tracer_closed_form.h"
-#include "../../../core/src/field/tracer_closed_form_batch.h"
+#include "field/tracer_closed_form.h"
+#include "field/tracer_closed_form_batch.h"
 #include "soupuv/field/triangle_integrals.h"
 
 using namespace soupuv;

@@ -8,7 +8,7 @@
 #include <cmath>
 #include <random>
 
-#include "../../../core/src/field/tracer_closed_form.h"
+#include "field/tracer_closed_form.h"
 #include "soupuv/field/triangle_integrals.h"
 
 using namespace soupuv;

@@ -9,7 +9,7 @@
 #include <random>
 #include <vector>
 
-#include "../../../core/src/field/tracer_m2l.h"
+#include "field/tracer_m2l.h"
 #include "soupuv/field/taylor.h"
 
 using namespace soupuv;

@@ -11,7 +11,7 @@
 #include <random>
 #include <vector>
 
-#include "../../../core/src/field/tracer_vmath.h"
+#include "field/tracer_vmath.h"
 
 #ifdef SOUPUV_TRACER_VMATH
 

@@ -13,7 +13,7 @@
 #include "soupuv/baseline/box_projection.h"
 #include "soupuv/errors.h"
 #include "soupuv/io/write.h"
-#include "soupuv/shapes.h"
+#include "testing/shapes.h"
 #include "write_test_reader.h"
 
 namespace soupuv::io {

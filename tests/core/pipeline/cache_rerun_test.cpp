@@ -5,7 +5,7 @@
 #include <filesystem>
 
 #include "pipeline_support.h"
-#include "../../../core/src/pipeline/weld_cache.h"
+#include "pipeline/weld_cache.h"
 #include "soupuv/cache/store.h"
 #include "soupuv/quality/weld.h"
 

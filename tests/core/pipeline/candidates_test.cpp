@@ -3,7 +3,7 @@
 // candidate alone and picking by hand would keep.
 #include <gtest/gtest.h>
 
-#include "../../../core/src/pipeline/candidates.h"
+#include "pipeline/candidates.h"
 #include "pipeline_support.h"
 #include "soupuv/errors.h"
 #include "soupuv/io/load.h"

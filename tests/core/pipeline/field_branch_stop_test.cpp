@@ -4,7 +4,7 @@
 // offset within the reach and re-traces for a farther one.
 #include <gtest/gtest.h>
 
-#include "../../../core/src/pipeline/field_branch.h"
+#include "pipeline/field_branch.h"
 #include "pipeline_support.h"
 
 using namespace soupuv;

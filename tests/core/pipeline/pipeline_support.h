@@ -7,7 +7,7 @@
 
 #include "soupuv/cache/store.h"
 #include "soupuv/pipeline.h"
-#include "soupuv/shapes.h"
+#include "testing/shapes.h"
 
 namespace soupuv::testing {
 

@@ -10,7 +10,7 @@
 #include "proxy_expect.h"
 #include "soupuv/errors.h"
 #include "soupuv/proxy/offset_policy.h"
-#include "soupuv/shapes.h"
+#include "testing/shapes.h"
 
 namespace soupuv::proxy {
 namespace {

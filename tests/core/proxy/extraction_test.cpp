@@ -17,7 +17,7 @@
 #include "soupuv/proxy/mesh_checks.h"
 #include "soupuv/proxy/narrow_band.h"
 #include "soupuv/proxy/triangle_bvh.h"
-#include "soupuv/shapes.h"
+#include "testing/shapes.h"
 
 namespace soupuv::proxy {
 namespace {

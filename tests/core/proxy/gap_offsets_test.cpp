@@ -12,7 +12,7 @@
 #include "soupuv/proxy/gap_offsets.h"
 #include "soupuv/proxy/proxy.h"
 #include "soupuv/proxy/triangle_bvh.h"
-#include "soupuv/shapes.h"
+#include "testing/shapes.h"
 
 namespace soupuv::proxy {
 namespace {

@@ -13,7 +13,7 @@
 #include "soupuv/proxy/narrow_band.h"
 #include "soupuv/proxy/taubin_smooth.h"
 #include "soupuv/proxy/triangle_bvh.h"
-#include "soupuv/shapes.h"
+#include "testing/shapes.h"
 
 namespace soupuv::proxy {
 namespace {

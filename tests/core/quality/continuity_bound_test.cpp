@@ -2,7 +2,7 @@
 #include <gtest/gtest.h>
 
 #include "soupuv/quality/continuity_bound.h"
-#include "soupuv/shapes.h"
+#include "testing/shapes.h"
 
 using namespace soupuv;
 using namespace soupuv::quality;

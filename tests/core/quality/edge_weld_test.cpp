@@ -9,7 +9,7 @@
 #include "adjacent_pair_set.h"
 #include "soupuv/quality/uv_metrics.h"
 #include "soupuv/quality/weld.h"
-#include "soupuv/shapes.h"
+#include "testing/shapes.h"
 
 using namespace soupuv;
 using namespace soupuv::quality;

@@ -7,7 +7,7 @@
 #include <algorithm>
 
 #include "soupuv/quality/weld.h"
-#include "soupuv/shapes.h"
+#include "testing/shapes.h"
 #include "soupuv/union_find.h"
 
 using namespace soupuv;

@@ -4,7 +4,7 @@
 
 #include "soupuv/quality/uv_metrics.h"
 #include "soupuv/quality/weld.h"
-#include "soupuv/shapes.h"
+#include "testing/shapes.h"
 
 using namespace soupuv;
 using namespace soupuv::quality;

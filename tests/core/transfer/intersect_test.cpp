@@ -1,6 +1,6 @@
 #include <gtest/gtest.h>
 
-#include "soupuv/shapes.h"
+#include "testing/shapes.h"
 #include "soupuv/transfer/intersect.h"
 
 using namespace soupuv;

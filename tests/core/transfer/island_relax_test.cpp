@@ -9,10 +9,10 @@
 #include <cmath>
 
 #include "soupuv/quality/uv_metrics.h"
-#include "soupuv/shapes.h"
+#include "testing/shapes.h"
 #include "soupuv/transfer/island_relax.h"
-#include "../../../core/src/transfer/slim.h"
-#include "../../../core/src/transfer/sym_dirichlet.h"
+#include "transfer/slim.h"
+#include "transfer/sym_dirichlet.h"
 #include "uv_grid_case.h"
 
 using namespace soupuv;

@@ -3,7 +3,7 @@
 #include <random>
 
 #include "soupuv/quality/weld.h"
-#include "soupuv/shapes.h"
+#include "testing/shapes.h"
 #include "soupuv/transfer/orient.h"
 
 using namespace soupuv;

@@ -3,7 +3,7 @@
 #include <random>
 
 #include "soupuv/errors.h"
-#include "soupuv/shapes.h"
+#include "testing/shapes.h"
 #include "soupuv/transfer/transfer.h"
 #include "soupuv/transfer/triangle_bvh.h"
 

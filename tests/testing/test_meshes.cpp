@@ -1,10 +1,10 @@
-#include "soupuv/atlas/test_meshes.h"
+#include "testing/test_meshes.h"
 
 #include <algorithm>
 #include <cmath>
 #include <unordered_map>
 
-namespace soupuv::atlas::test_meshes {
+namespace soupuv::test_meshes {
 
 TriMesh march(const std::function<double(Vec3)>& f, Vec3 lo, Vec3 hi, int cells, int smoothing) {
   Vec3 ext = hi - lo;
@@ -139,4 +139,4 @@ TriMesh drilled_block(int triangles) {
   return march(f, lo, hi, cells_for(area, 2.2, triangles), 1);
 }
 
-}  // namespace soupuv::atlas::test_meshes
+}  // namespace soupuv::test_meshes

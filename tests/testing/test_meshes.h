@@ -8,7 +8,7 @@
 
 #include "soupuv/mesh.h"
 
-namespace soupuv::atlas::test_meshes {
+namespace soupuv::test_meshes {
 
 // Closed surface f = 0 of a scalar field sampled on a grid of `cells` cells
 // along the longest side of [lo, hi]; f < 0 inside. Faces are oriented
@@ -24,4 +24,4 @@ TriMesh fused_tori(int genus, int triangles);
 // a cylindrical boss on top (sharp edges, genus 1), about `triangles` faces.
 TriMesh drilled_block(int triangles);
 
-}  // namespace soupuv::atlas::test_meshes
+}  // namespace soupuv::test_meshes

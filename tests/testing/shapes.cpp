@@ -1,4 +1,4 @@
-#include "soupuv/shapes.h"
+#include "testing/shapes.h"
 
 #include <cmath>
 #include <map>
