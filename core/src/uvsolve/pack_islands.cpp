@@ -162,13 +162,16 @@ PackFigures pack_islands(const UvLayout& L, int texture_size, double padding_px,
   for (size_t u = 0; u < units.size(); ++u) charts[u] = {&units[u].uv, &units[u].tris, nullptr, &units[u].boundary};
   atlas::RasterPackOptions ro;
   ro.threads = threads;
-  // Eight turns, the scale search stopping within 1 %, one packing per
-  // further variant: half the packing time of the atlas's defaults for
-  // utilisation within 0.2 % on the corpus (docs/tuning.md).
-  ro.angles = 8;
-  ro.precision = 1.01;
-  ro.max_packings = 6;
-  ro.variant_packings = 1;
+  // Many units: eight turns, the scale search stopping within 1 %, one
+  // packing per further variant (each packing rasterises every unit in
+  // every turn). Few units keep the packer's full effort, which costs
+  // little there and holds utilisation on few-island maps (docs/tuning.md).
+  if (units.size() > 200) {
+    ro.angles = 8;
+    ro.precision = 1.01;
+    ro.max_packings = 6;
+    ro.variant_packings = 1;
+  }
   const atlas::RasterPackResult r = atlas::raster_pack(charts, texture_size, padding_px, 0, ro);
   if (!(r.scale > 0))
     throw Error(ErrorCode::limit_exceeded,
