@@ -1,7 +1,6 @@
 #include "pipeline/field_branch.h"
 
 #include <chrono>
-#include <sstream>
 
 #include "pipeline/field_codec.h"
 #include "pipeline/shared_seeds.h"
@@ -19,31 +18,32 @@ double since(std::chrono::steady_clock::time_point t0) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 }
 
-// Every option that changes the result (threads do not), for cache keys.
+// A cache-key part from raw bytes (hashed as they are, never formatted).
+std::string key_part(cache::ByteWriter&& w) {
+  const std::vector<uint8_t> bytes = w.take();
+  return std::string(bytes.begin(), bytes.end());
+}
+
+// Every option that changes the result (threads do not), for cache keys:
+// each field's bytes in a fixed order (fields one by one, so no struct
+// padding enters the key).
 std::string charge_params(const field::ChargeOptions& o) {
-  std::ostringstream s;
-  s.precision(17);
-  s << "solver=" << int(o.solver) << " tol=" << o.tolerance << " q=" << o.quadrature_degree
-    << " p=" << o.fmm_order << " theta=" << o.fmm_theta << " refine=" << o.refine_area_ratio
-    << " maxit=" << o.max_iterations << " maxs=" << o.max_seconds
-    << " direct=" << o.direct_initialization;
-  return s.str();
+  cache::ByteWriter w;
+  w.put(int(o.solver)), w.put(o.tolerance), w.put(o.quadrature_degree), w.put(o.fmm_order), w.put(o.fmm_theta);
+  w.put(o.refine_area_ratio), w.put(o.max_iterations), w.put(o.max_seconds), w.put(o.direct_initialization);
+  return key_part(std::move(w));
 }
 
 // `o`: the trace options as traced (stop sphere and box filled in).
 std::string trace_params(const FieldBranchOptions& b, const field::TraceOptions& o) {
-  std::ostringstream s;
-  s.precision(17);
-  s << "int=" << int(o.integrator) << " steps=" << o.max_steps << " step=" << o.step
-    << " eps=" << o.start_offset << " stop=" << o.stop_radius << " box=" << o.stop_box.lo.x << ","
-    << o.stop_box.lo.y << "," << o.stop_box.lo.z << "," << o.stop_box.hi.x << "," << o.stop_box.hi.y
-    << "," << o.stop_box.hi.z << " p=" << o.fmm_order
-    << " theta=" << o.fmm_theta << " keep=" << o.keep_points << " adaptive=" << o.adaptive_step
-    << " near=" << o.near_step_fraction << " turn=" << o.max_turn_per_step << " growth=" << o.max_step_growth
-    << " direct=" << o.direct << " leaf=" << o.fmm_leaf_size << " trapped=" << o.trapped_steps << " probes=" << b.trace_cut_probes << " orient=" << b.orient_sides << " share=" << b.share_lines
-    << " weld=" << b.weld_tolerance << " edge=" << b.weld_edge_fraction
-    << " seed_edges=" << b.seed_edge_weld_tolerance << " seed_fraction=" << b.seed_edge_fraction;
-  return s.str();
+  cache::ByteWriter w;
+  w.put(int(o.integrator)), w.put(o.max_steps), w.put(o.step), w.put(o.start_offset), w.put(o.stop_radius);
+  for (const Vec3& c : {o.stop_box.lo, o.stop_box.hi}) w.put(c.x), w.put(c.y), w.put(c.z);
+  w.put(o.fmm_order), w.put(o.fmm_theta), w.put(o.keep_points), w.put(o.adaptive_step), w.put(o.near_step_fraction);
+  w.put(o.max_turn_per_step), w.put(o.max_step_growth), w.put(o.direct), w.put(o.fmm_leaf_size);
+  w.put(o.trapped_steps), w.put(b.trace_cut_probes), w.put(b.orient_sides), w.put(b.share_lines);
+  w.put(b.weld_tolerance), w.put(b.weld_edge_fraction), w.put(b.seed_edge_weld_tolerance), w.put(b.seed_edge_fraction);
+  return key_part(std::move(w));
 }
 
 nlohmann::json charge_json(const field::ChargeResult& c) {

@@ -1,6 +1,5 @@
 #include "pipeline/weld_cache.h"
 
-#include <sstream>
 
 #include "soupuv/cache/bytes.h"
 #include "soupuv/cache/store.h"
@@ -9,15 +8,16 @@ namespace soupuv::pipeline {
 
 namespace {
 // Bump when a weld's algorithm or this layout changes.
-constexpr const char* kWeldCacheVersion = "weld-cache-1";
+constexpr const char* kWeldCacheVersion = "weld-cache-2";  // 2: recipes as raw bytes
 }  // namespace
 
 std::string weld_recipe(const std::string& kind, std::initializer_list<double> parameters) {
-  std::ostringstream s;
-  s.precision(17);
-  s << kind;
-  for (double p : parameters) s << ' ' << p;
-  return s.str();
+  // Raw bytes, hashed as they are (never formatted).
+  cache::ByteWriter w;
+  w.put_string(kind);
+  for (double p : parameters) w.put(p);
+  const std::vector<uint8_t> bytes = w.take();
+  return std::string(bytes.begin(), bytes.end());
 }
 
 quality::Weld cached_weld(cache::Store* store, const std::string& soup_hash, const std::string& recipe,
