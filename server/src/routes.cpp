@@ -300,6 +300,12 @@ void submit_shared(ServerContext& ctx, const httplib::Request&, httplib::Respons
   } undo{ctx, job.id};
   for (const std::string name : {job.input_file, std::string("texture.png"), std::string("texture.jpg")})
     if (fs::exists(tmp / name)) ctx.blobs->put(job.id, name, tmp / name);
+  // A folder upload (model/...): every file the checked folder holds, so the
+  // node that runs the job finds the .gltf's buffers and images too.
+  if (job.input_file.rfind("model/", 0) == 0)
+    for (const auto& entry : fs::recursive_directory_iterator(tmp / "model"))
+      if (entry.is_regular_file() && !entry.is_symlink() && entry.path() != tmp / job.input_file)
+        ctx.blobs->put(job.id, fs::relative(entry.path(), tmp).generic_string(), entry.path());
   SubmitAnswer answer = ctx.queue->submit(job, ctx.config.queue_capacity);
   if (answer.admission == Admission::full) return queue_full(res, ctx, 429);
   if (answer.admission == Admission::duplicate) return replay(res, ctx, *answer.job, job);

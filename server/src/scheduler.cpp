@@ -521,7 +521,10 @@ void Scheduler::run_leased(const Job& job, const Lease& lease) {
   fs::remove_all(dir);
   fs::create_directories(dir / "work");
   for (const auto& name : blobs_.names(id))
-    if (name == job.input_file || name == "texture.png" || name == "texture.jpg") blobs_.get(id, name, dir / name);
+    if (name == job.input_file || name == "texture.png" || name == "texture.jpg" || name.rfind("model/", 0) == 0) {
+      fs::create_directories((dir / name).parent_path());  // a folder upload's subfolders
+      blobs_.get(id, name, dir / name);
+    }
   if (!fs::exists(dir / job.input_file)) {
     if (complete(JobState::failed, JobError{"internal", 500, "the job's input is missing from the store"}, {}))
       metrics_.job_finished("failed");

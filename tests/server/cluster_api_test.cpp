@@ -123,3 +123,26 @@ TEST(ClusterApi, IdempotencyDownloadsAndDeleteAcrossNodes) {
   EXPECT_NE(m->body.find("soupuv_leases_reaped_total"), std::string::npos);
   EXPECT_NE(m->body.find("soupuv_queue_depth 0"), std::string::npos);
 }
+
+// A folder upload (a .gltf with its buffer and image as parts) on a node of
+// the shared store: every file of the folder goes through the blob store, so
+// the node that runs the job (the real CLI) finds the .bin and the image.
+TEST(ClusterApi, FolderUploadRunsFromTheSharedStore) {
+  if (!cli_available()) GTEST_SKIP() << "the soupuv CLI was not built; end-to-end tests need it";
+  START_POSTGRES(pg);
+  ServerProcess node(fresh_dir("capi-folder"), {"--database-url", pg.url(), "--worker-bin", SOUPUV_CLI_BIN,
+                                                "--workers", "1", "--threads", "2"});
+  auto c = node.client();
+  const std::string dir = shared_data("gltf/TwoSidedPlane/");
+  httplib::MultipartFormDataItems items = {
+      {"file", read_bytes(dir + "TwoSidedPlane.gltf"), "TwoSidedPlane.gltf", "model/gltf+json"},
+      {"files", read_bytes(dir + "TwoSidedPlane.bin"), "TwoSidedPlane.bin", "application/octet-stream"},
+      {"files", read_bytes(dir + "TwoSidedPlane_BaseColor.png"), "TwoSidedPlane_BaseColor.png", "image/png"},
+      {"params", R"({"method":"box","texture_size":128})", "", "application/json"},
+  };
+  auto r = c.Post("/v1/jobs", items);
+  ASSERT_TRUE(r);
+  ASSERT_EQ(r->status, 202) << r->body;
+  const auto done = wait_finished(c, nlohmann::json::parse(r->body)["id"], 120);
+  EXPECT_EQ(done["state"], "succeeded") << done.dump();
+}
