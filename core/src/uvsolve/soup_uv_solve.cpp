@@ -76,19 +76,24 @@ SoupUvResult solve_soup_uvs(const Soup& soup, const quality::Weld& weld,
   const double cell =
       (rest_area > 0 ? std::sqrt(rest_area) / options.texture_size : 1.0) / options.overlap_samples_per_texel;
 
+  // The selected islands flattened again from their own shape; its figures
+  // under `name`.
+  auto reembed = [&](const std::vector<uint8_t>& selected, const char* name, Clock::time_point t0) {
+    const detail::ReembedFigures rf = detail::reembed_islands(
+        soup, uv_per_length, selected, cell, options.reembed_max_stretch, options.solve_iterations, options.threads, layout);
+    nlohmann::json j = reembed_json(rf);
+    j["kept_pairs"] = kept_pairs(pairs, layout);
+    j["seconds"] = since(t0);
+    d[name] = j;
+  };
+
   // Islands still folded are flattened again from their own shape.
   if (options.reembed) {
     auto t_re = Clock::now();
     std::vector<uint8_t> folded(layout.island_count, 0);
     for (size_t t = 0; t < layout.corner_vertex.size(); ++t)
       if (detail::is_folded(soup, uv_per_length, options.collapse_ratio, layout, t)) folded[layout.island[t]] = 1;
-    const detail::ReembedFigures rf = detail::reembed_islands(soup, uv_per_length, folded, cell,
-                                                              options.reembed_max_stretch,
-                                                              options.solve_iterations, options.threads, layout);
-    nlohmann::json j = reembed_json(rf);
-    j["kept_pairs"] = kept_pairs(pairs, layout);
-    j["seconds"] = since(t_re);
-    d["reembed_folds"] = j;
+    reembed(folded, "reembed_folds", t_re);
   }
 
   auto t1 = Clock::now();
@@ -125,13 +130,7 @@ SoupUvResult solve_soup_uvs(const Soup& soup, const quality::Weld& weld,
       for (uint32_t t : islands[i]) a += 0.5 * std::abs(detail::signed_area2(layout, t));
       lapping[i] = double(detail::overlap_samples(layout, islands[i], cell)) > detail::kLapShare * a / (cell * cell);
     }
-    const detail::ReembedFigures rf = detail::reembed_islands(soup, uv_per_length, lapping, cell,
-                                                              options.reembed_max_stretch,
-                                                              options.solve_iterations, options.threads, layout);
-    nlohmann::json j = reembed_json(rf);
-    j["kept_pairs"] = kept_pairs(pairs, layout);
-    j["seconds"] = since(t3);
-    d["reembed_overlaps"] = j;
+    reembed(lapping, "reembed_overlaps", t3);
   }
   const detail::OverlapSplitFigures of = detail::split_overlaps(cell, options.threads, layout);
   d["overlap_split"] = {{"overlapping_islands", of.overlapping_islands},
