@@ -133,13 +133,7 @@ TEST(ClusterApi, FolderUploadRunsFromTheSharedStore) {
   ServerProcess node(fresh_dir("capi-folder"), {"--database-url", pg.url(), "--worker-bin", SOUPUV_CLI_BIN,
                                                 "--workers", "1", "--threads", "2"});
   auto c = node.client();
-  const std::string dir = shared_data("gltf/TwoSidedPlane/");
-  httplib::MultipartFormDataItems items = {
-      {"file", read_bytes(dir + "TwoSidedPlane.gltf"), "TwoSidedPlane.gltf", "model/gltf+json"},
-      {"files", read_bytes(dir + "TwoSidedPlane.bin"), "TwoSidedPlane.bin", "application/octet-stream"},
-      {"files", read_bytes(dir + "TwoSidedPlane_BaseColor.png"), "TwoSidedPlane_BaseColor.png", "image/png"},
-      {"params", R"({"method":"box","texture_size":128})", "", "application/json"},
-  };
+  httplib::MultipartFormDataItems items = two_sided_plane_parts(R"({"method":"box","texture_size":128})");
   auto r = c.Post("/v1/jobs", items);
   ASSERT_TRUE(r);
   ASSERT_EQ(r->status, 202) << r->body;

@@ -55,13 +55,7 @@ class FolderUpload : public ::testing::Test {
 
 TEST_F(FolderUpload, GltfWithItsFilesAsParts) {
   auto c = server_->client();
-  const std::string dir = shared_data("gltf/TwoSidedPlane/");
-  httplib::MultipartFormDataItems items = {
-      {"file", read_bytes(dir + "TwoSidedPlane.gltf"), "TwoSidedPlane.gltf", "model/gltf+json"},
-      {"files", read_bytes(dir + "TwoSidedPlane.bin"), "TwoSidedPlane.bin", "application/octet-stream"},
-      {"files", read_bytes(dir + "TwoSidedPlane_BaseColor.png"), "TwoSidedPlane_BaseColor.png", "image/png"},
-      {"params", R"({"method":"box","texture_size":128})", "", "application/json"},
-  };
+  httplib::MultipartFormDataItems items = two_sided_plane_parts(R"({"method":"box","texture_size":128})");
   json done = finished(c, c.Post("/v1/jobs", items));
   ASSERT_EQ(done["state"], "succeeded") << done.dump();
   auto d = c.Get(("/v1/jobs/" + done["id"].get<std::string>() + "/diagnostics").c_str());

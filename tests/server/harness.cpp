@@ -103,6 +103,16 @@ ServerProcess::ServerProcess(fs::path data_dir, std::vector<std::string> args, s
   }
 }
 
+httplib::MultipartFormDataItems two_sided_plane_parts(const std::string& params) {
+  const std::string dir = shared_data("gltf/TwoSidedPlane/");
+  return {
+      {"file", read_bytes(dir + "TwoSidedPlane.gltf"), "TwoSidedPlane.gltf", "model/gltf+json"},
+      {"files", read_bytes(dir + "TwoSidedPlane.bin"), "TwoSidedPlane.bin", "application/octet-stream"},
+      {"files", read_bytes(dir + "TwoSidedPlane_BaseColor.png"), "TwoSidedPlane_BaseColor.png", "image/png"},
+      {"params", params, "", "application/json"},
+  };
+}
+
 ServerProcess::~ServerProcess() {
   if (pid_ > 0) terminate();
   if (reader_.joinable()) reader_.join();

@@ -21,6 +21,9 @@ namespace soupuv::test {
 std::filesystem::path fresh_dir(const std::string& name);  // under the build dir
 std::string read_bytes(const std::filesystem::path& p);
 std::string shared_data(const std::string& rel);           // SOUPUV_SHARED_DATA/rel
+// A folder upload of the shared TwoSidedPlane sample: the .gltf, its .bin and
+// its base-colour image as multipart parts, with `params` (JSON) last.
+httplib::MultipartFormDataItems two_sided_plane_parts(const std::string& params);
 bool cli_available();                                      // the real soupuv CLI was built
 
 class ServerProcess {
