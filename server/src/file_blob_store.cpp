@@ -1,10 +1,12 @@
 // BlobStore over the data directory, the embedded default's layout:
-// DATA/jobs/<id>/<name>. put() is the fsync + rename the scheduler has
+// DATA/jobs/<id>/<name> (results: DATA/jobs/<id>/attempt-<n>/<name>,
+// result_blobs.h). put() is the fsync + rename the scheduler has
 // always used to commit results (a reader sees a whole file or none).
 #include <fstream>
 
 #include "soupuv/server/blob_store.h"
 #include "soupuv/server/files.h"
+#include "soupuv/server/result_blobs.h"
 
 namespace soupuv::server {
 namespace fs = std::filesystem;
@@ -15,9 +17,11 @@ class FileBlobStore final : public BlobStore {
   explicit FileBlobStore(const DataDir& data) : data_(data) {}
 
   void put(const std::string& id, const std::string& name, const fs::path& from) override {
-    const fs::path dir = data_.job(id);
-    fs::create_directories(dir);
-    commit_file(from, dir / name);
+    const fs::path to = data_.job(id) / name;
+    // attempt-<n>/, a folder upload's subfolders: a new directory's entry is
+    // fsynced too, or a power loss could lose the blob commit_file made durable.
+    if (fs::create_directories(to.parent_path())) fsync_path(to.parent_path().parent_path());
+    commit_file(from, to);
   }
 
   std::optional<int64_t> size(const std::string& id, const std::string& name) override {
@@ -55,6 +59,11 @@ class FileBlobStore final : public BlobStore {
   void remove(const std::string& id) override {
     std::error_code ec;
     fs::remove_all(data_.job(id), ec);
+  }
+
+  void remove_attempt(const std::string& id, int attempt) override {
+    // attempt-<n>/ is a directory of its own: its blobs go with it.
+    fs::remove_all((data_.job(id) / attempt_prefix(attempt)).parent_path());
   }
 
  private:

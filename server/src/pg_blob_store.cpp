@@ -16,6 +16,7 @@
 
 #include "soupuv/server/blob_store.h"
 #include "soupuv/server/pg_connection.h"
+#include "soupuv/server/result_blobs.h"
 #include "soupuv/server/storage.h"
 
 namespace soupuv::server {
@@ -105,6 +106,16 @@ class PgBlobStore final : public BlobStore {
     c->transaction([&](PgConnection& t) {
       t.exec("DELETE FROM soupuv_blob_chunks WHERE job_id = $1", {id});
       t.exec("DELETE FROM soupuv_blobs WHERE job_id = $1", {id});
+    });
+  }
+
+  void remove_attempt(const std::string& id, int attempt) override {
+    // starts_with, not LIKE: a prefix, never a pattern.
+    const std::string prefix = attempt_prefix(attempt);
+    auto c = pool_.take();
+    c->transaction([&](PgConnection& t) {
+      t.exec("DELETE FROM soupuv_blob_chunks WHERE job_id = $1 AND starts_with(name, $2)", {id, prefix});
+      t.exec("DELETE FROM soupuv_blobs WHERE job_id = $1 AND starts_with(name, $2)", {id, prefix});
     });
   }
 

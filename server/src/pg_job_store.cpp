@@ -9,7 +9,7 @@ namespace {
 constexpr const char* kColumns =
     "id, state, created_at, started_at, finished_at, stage, fraction, stage_seconds, error_code, "
     "error_status, error_detail, params, input_file, content_type, input_bytes, idem_key, "
-    "request_hash, attempts, cancel_requested, outputs, seq, tenant";
+    "request_hash, attempts, cancel_requested, outputs, seq, tenant, result_attempt";
 
 std::string select_jobs() { return std::string("SELECT ") + kColumns + " FROM soupuv_jobs "; }
 
@@ -48,6 +48,7 @@ Job read_job(const PgResult& r, int row) {
     for (const auto& o : outs)
       if (o.is_string()) j.outputs.push_back(o.get<std::string>());
   j.tenant = r.text(row, 21);
+  j.result_attempt = int(r.integer(row, 22));
   return j;
 }
 
@@ -175,14 +176,14 @@ void PgJobStore::update_progress(const std::string& id, const std::string& stage
 }
 
 void PgJobStore::finish(const std::string& id, JobState state, const std::optional<JobError>& error,
-                        const std::vector<std::string>& outputs, double at) {
+                        const std::vector<std::string>& outputs, int result_attempt, double at) {
   auto c = pool_.take();
   c->exec("UPDATE soupuv_jobs SET state = $2, finished_at = $3, error_code = $4, error_status = $5,"
-          " error_detail = $6, outputs = $7, stage = '', fraction = 0, lease_owner = NULL, lease_until = NULL"
-          " WHERE id = $1",
+          " error_detail = $6, outputs = $7, result_attempt = $8, stage = '', fraction = 0, lease_owner = NULL,"
+          " lease_until = NULL WHERE id = $1",
           {id, to_string(state), pg_num(at), error ? PgParam(error->code) : PgParam(),
            error ? pg_int(error->http_status) : PgParam(), error ? PgParam(error->detail) : PgParam(),
-           nlohmann::json(outputs).dump()});
+           nlohmann::json(outputs).dump(), pg_int(result_attempt)});
 }
 
 void PgJobStore::request_cancel(const std::string& id) {

@@ -58,6 +58,11 @@ const Migration kMigrations[] = {
      " job_id TEXT NOT NULL, name TEXT NOT NULL, n INTEGER NOT NULL, data BYTEA NOT NULL,"
      " PRIMARY KEY (job_id, name, n));"
      "ALTER TABLE soupuv_blob_chunks ALTER COLUMN data SET STORAGE EXTERNAL;"},
+    {3, "result_attempt",
+     // Results are blobs per attempt (result_blobs.h); the outcome names the
+     // attempt whose blobs they are. 0: a job finished before, whose results
+     // are under the plain names.
+     "ALTER TABLE soupuv_jobs ADD COLUMN result_attempt INTEGER NOT NULL DEFAULT 0;"},
 };
 
 // Any constant shared by every soupuv-server build; 'soupuvdb' in ASCII.

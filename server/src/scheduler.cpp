@@ -157,7 +157,7 @@ size_t Scheduler::recover() {
       const std::string detail = "the job was interrupted on each of its " + std::to_string(j.attempts) +
                                  " attempts (the server stopped or was killed while it ran)";
       if (!store_write("finish", [&] {
-            store_.finish(j.id, JobState::failed, JobError{"interrupted", 500, detail}, {}, now_seconds());
+            store_.finish(j.id, JobState::failed, JobError{"interrupted", 500, detail}, {}, 0, now_seconds());
           }))
         continue;  // stays running in the store; the next start decides again
       remove_work_dir(j.id);
@@ -193,7 +193,7 @@ bool Scheduler::cancel(const std::string& id) {
   for (auto it = queue_.begin(); it != queue_.end(); ++it)
     if (*it == id) {
       queue_.erase(it);
-      store_.finish(id, JobState::canceled, std::nullopt, {}, now_seconds());
+      store_.finish(id, JobState::canceled, std::nullopt, {}, 0, now_seconds());
       metrics_.job_finished("canceled");
       if (on_finish_) on_finish_(id);
       return true;
@@ -299,7 +299,7 @@ void Scheduler::worker_loop() {
       log::error("job supervision failed", {{"job", id}, {"error", e.what()}});
       if (store_write("finish", [&] {
             store_.finish(id, JobState::failed, JobError{"internal", 500, "server error while running the job"},
-                          {}, now_seconds());
+                          {}, 0, now_seconds());
           })) {
         metrics_.job_finished("failed");
         if (on_finish_) on_finish_(id);
@@ -430,7 +430,7 @@ bool Scheduler::run_job(const std::string& id) {
     cancel = running_[id];
   }
   if (job->cancel_requested) {
-    if (store_write("finish", [&] { store_.finish(id, JobState::canceled, std::nullopt, {}, now_seconds()); })) {
+    if (store_write("finish", [&] { store_.finish(id, JobState::canceled, std::nullopt, {}, 0, now_seconds()); })) {
       metrics_.job_finished("canceled");
       if (on_finish_) on_finish_(id);
     }
@@ -482,7 +482,8 @@ bool Scheduler::run_job(const std::string& id) {
   fs::remove_all(work);
   // If the outcome cannot be recorded the job stays running in the store and
   // the next start runs it again (bounded by --max-attempts).
-  if (!store_write("finish", [&] { store_.finish(id, verdict.state, verdict.error, a.outputs, now_seconds()); }))
+  // 0: the results are still under their plain names.
+  if (!store_write("finish", [&] { store_.finish(id, verdict.state, verdict.error, a.outputs, 0, now_seconds()); }))
     return false;
   metrics_.job_finished(to_string(verdict.state));
   if (on_finish_) on_finish_(id);

@@ -69,9 +69,9 @@ class SnapshotJobStore final : public JobStore {
   }
 
   void finish(const std::string& id, JobState state, const std::optional<JobError>& error,
-              const std::vector<std::string>& outputs, double at) override {
+              const std::vector<std::string>& outputs, int result_attempt, double at) override {
     std::lock_guard w(write_mu_);
-    durable_->finish(id, state, error, outputs, at);
+    durable_->finish(id, state, error, outputs, result_attempt, at);
     refresh(id);
   }
 

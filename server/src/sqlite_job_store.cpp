@@ -57,7 +57,7 @@ class Stmt {
 constexpr const char* kColumns =
     "id, state, created_at, started_at, finished_at, stage, fraction, stage_seconds, error_code, "
     "error_status, error_detail, params, input_file, content_type, input_bytes, idem_key, "
-    "request_hash, attempts, cancel_requested, outputs, seq, tenant";
+    "request_hash, attempts, cancel_requested, outputs, seq, tenant, result_attempt";
 
 // Idempotency keys are unique per tenant. The idem_key column (UNIQUE since
 // the first schema) holds "tenant\nkey"; neither part can contain '\n'
@@ -94,6 +94,7 @@ Job read_job(const Stmt& s) {
     for (const auto& o : outs)
       if (o.is_string()) j.outputs.push_back(o.get<std::string>());
   j.tenant = s.text(21);
+  j.result_attempt = int(s.integer(22));
   return j;
 }
 
@@ -128,6 +129,10 @@ class SqliteJobStore final : public JobStore {
     // Databases from before tenants: their jobs belong to the tenant-less server.
     if (!has_column("jobs", "tenant")) exec("ALTER TABLE jobs ADD COLUMN tenant TEXT NOT NULL DEFAULT ''");
     exec("CREATE INDEX IF NOT EXISTS jobs_tenant ON jobs(tenant, seq)");
+    // Databases from before results were stored per attempt (result_blobs.h):
+    // 0, their jobs' results are under the plain names.
+    if (!has_column("jobs", "result_attempt"))
+      exec("ALTER TABLE jobs ADD COLUMN result_attempt INTEGER NOT NULL DEFAULT 0");
   }
   ~SqliteJobStore() override { sqlite3_close(db_); }
 
@@ -207,15 +212,15 @@ class SqliteJobStore final : public JobStore {
   }
 
   void finish(const std::string& id, JobState state, const std::optional<JobError>& error,
-              const std::vector<std::string>& outputs, double at) override {
+              const std::vector<std::string>& outputs, int result_attempt, double at) override {
     std::lock_guard lock(mu_);
     Stmt s(db_,
            "UPDATE jobs SET state=?, finished_at=?, error_code=?, error_status=?, error_detail=?,"
-           " outputs=?, stage='', fraction=0 WHERE id=?");
+           " outputs=?, result_attempt=?, stage='', fraction=0 WHERE id=?");
     s.bind(1, std::string(to_string(state))).bind(2, at);
     if (error) s.bind(3, error->code).bind(4, error->http_status).bind(5, error->detail);
     else s.bind_null(3).bind_null(4).bind_null(5);
-    s.bind(6, nlohmann::json(outputs).dump()).bind(7, id).step();
+    s.bind(6, nlohmann::json(outputs).dump()).bind(7, result_attempt).bind(8, id).step();
   }
 
   void request_cancel(const std::string& id) override {

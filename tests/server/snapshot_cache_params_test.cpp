@@ -54,7 +54,7 @@ TEST(SnapshotJobStore, ReadsMatchTheDatabaseAfterEveryWriteAndAcrossRestarts) {
     EXPECT_EQ(snap->get(ids[0])->stage, "charge");
     // A progress update for a job that is no longer running changes nothing,
     // in the database and so in the snapshot.
-    snap->finish(ids[1], JobState::failed, JobError{"invalid_input", 400, "bad"}, {}, now_seconds());
+    snap->finish(ids[1], JobState::failed, JobError{"invalid_input", 400, "bad"}, {}, 0, now_seconds());
     snap->update_progress(ids[1], "trace", 0.5, json::object());
     expect_same(snap->get(ids[1]), direct->get(ids[1]));
     EXPECT_EQ(snap->get(ids[1])->stage, "");

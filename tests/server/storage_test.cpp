@@ -99,9 +99,9 @@ class BrokenStore final : public JobStore {
     real_->update_progress(id, stage, f, ss);
   }
   void finish(const std::string& id, JobState st, const std::optional<JobError>& e,
-              const std::vector<std::string>& outs, double at) override {
+              const std::vector<std::string>& outs, int attempt, double at) override {
     check();
-    real_->finish(id, st, e, outs, at);
+    real_->finish(id, st, e, outs, attempt, at);
   }
   void request_cancel(const std::string& id) override { check(); real_->request_cancel(id); }
   void remove(const std::string& id) override { check(); real_->remove(id); }

@@ -18,6 +18,7 @@
 #include "soupuv/server/files.h"
 #include "soupuv/server/pg_job_store.h"
 #include "soupuv/server/pg_schema.h"
+#include "soupuv/server/result_blobs.h"
 #include "soupuv/server/storage.h"
 
 using namespace soupuv::server;
@@ -123,8 +124,8 @@ TEST_P(StoreContract, LifecyclePagingIdempotencyAndPersistence) {
 
   b.store->mark_running(ids[1], now_seconds());
   b.store->update_progress(ids[1], "load", 0.5, {{"parse", 0.1}});
-  b.store->finish(ids[2], JobState::failed, JobError{"invalid_input", 400, "bad"}, {}, now_seconds() - 100);
-  b.store->finish(ids[3], JobState::succeeded, std::nullopt, {"result.glb"}, now_seconds());
+  b.store->finish(ids[2], JobState::failed, JobError{"invalid_input", 400, "bad"}, {}, 0, now_seconds() - 100);
+  b.store->finish(ids[3], JobState::succeeded, std::nullopt, {"result.glb"}, 1, now_seconds());
   b.store->request_cancel(ids[4]);
 
   auto p1 = b.store->list(std::nullopt, 2, "", std::nullopt);
@@ -191,7 +192,7 @@ TEST_P(StoreContract, SurvivesReopen) {
   REQUIRE_PG(b.store ? std::string("ok") : std::string());
   Job j = new_job("h", "k");
   b.store->create_or_get_by_key(j);
-  b.store->finish(j.id, JobState::succeeded, std::nullopt, {"result.glb", "diagnostics.json"}, now_seconds());
+  b.store->finish(j.id, JobState::succeeded, std::nullopt, {"result.glb", "diagnostics.json"}, 1, now_seconds());
   b.store.reset();
   std::unique_ptr<JobStore> again;
   std::unique_ptr<PgPool> pool;
@@ -205,7 +206,59 @@ TEST_P(StoreContract, SurvivesReopen) {
   ASSERT_TRUE(back);
   EXPECT_EQ(back->state, JobState::succeeded);
   EXPECT_EQ(back->outputs.size(), 2u);
+  EXPECT_EQ(back->result_attempt, 1);
   EXPECT_EQ(back->idempotency_key, "k");
+}
+
+// Results are stored per attempt and the outcome names the attempt whose
+// blobs are the job's result (result_blobs.h): what a reader resolves is that
+// attempt's file whatever other attempts stored, and one attempt's blobs go
+// without the others'.
+TEST_P(StoreContract, OutcomeNamesTheAttemptWhoseBlobsAreTheResult) {
+  Backend b = open_backend(GetParam());
+  REQUIRE_PG(b.store ? std::string("ok") : std::string());
+  Job j = new_job("h");
+  b.store->create_or_get_by_key(j);
+  const fs::path src = b.data->root() / "src.bin";
+  auto put = [&](const std::string& name, const std::string& bytes) {
+    std::ofstream(src, std::ios::binary) << bytes;
+    b.blobs->put(j.id, name, src);
+  };
+  auto read = [&](const std::string& name) {
+    std::string got;
+    auto n = b.blobs->size(j.id, name);
+    if (!n || !b.blobs->read(j.id, name, 0, *n, [&](const char* p, size_t len) { return got.append(p, len), true; }))
+      return std::string("(missing)");
+    return got;
+  };
+  put("input.glb", "input");
+  put(attempt_blob(1, "result.glb"), "attempt one");
+  put(attempt_blob(2, "result.glb"), "attempt two");
+  put(attempt_blob(2, "diagnostics.json"), "{}");
+  put(attempt_blob(10, "result.glb"), "attempt ten");  // attempt-1/ is not a prefix of attempt-10/
+  b.store->mark_running(j.id, now_seconds());
+  b.store->finish(j.id, JobState::succeeded, std::nullopt, {"result.glb", "diagnostics.json"}, 2, now_seconds());
+  auto done = b.store->get(j.id);
+  ASSERT_TRUE(done);
+  EXPECT_EQ(done->result_attempt, 2);
+  EXPECT_EQ(result_blob(*done, "result.glb"), "attempt-2/result.glb");
+  EXPECT_EQ(read(result_blob(*done, "result.glb")), "attempt two");
+  // A late write of attempt 1 changes nothing a reader of the job sees.
+  put(attempt_blob(1, "result.glb"), "attempt one, late");
+  EXPECT_EQ(read(result_blob(*b.store->get(j.id), "result.glb")), "attempt two");
+  b.blobs->remove_attempt(j.id, 1);
+  EXPECT_EQ(read(attempt_blob(1, "result.glb")), "(missing)");
+  EXPECT_EQ(read(attempt_blob(2, "result.glb")), "attempt two");
+  EXPECT_EQ(read(attempt_blob(2, "diagnostics.json")), "{}");
+  EXPECT_EQ(read(attempt_blob(10, "result.glb")), "attempt ten");
+  EXPECT_EQ(read("input.glb"), "input");
+  // A job finished before results were per attempt reads the plain names.
+  Job old = new_job("o");
+  b.store->create_or_get_by_key(old);
+  b.store->finish(old.id, JobState::succeeded, std::nullopt, {"result.glb"}, 0, now_seconds());
+  EXPECT_EQ(result_blob(*b.store->get(old.id), "result.glb"), "result.glb");
+  b.blobs->remove(j.id);
+  EXPECT_EQ(read(attempt_blob(2, "result.glb")), "(missing)");
 }
 
 TEST_P(StoreContract, BlobsStreamInPiecesAndRanges) {

@@ -236,8 +236,8 @@ TEST(SqliteJobStore, LifecyclePagingIdempotencyAndPersistence) {
 
     store->mark_running(ids[1], now_seconds());
     store->update_progress(ids[1], "load", 0.5, {{"parse", 0.1}});
-    store->finish(ids[2], JobState::failed, JobError{"invalid_input", 400, "bad"}, {}, now_seconds() - 100);
-    store->finish(ids[3], JobState::succeeded, std::nullopt, {"result.glb"}, now_seconds());
+    store->finish(ids[2], JobState::failed, JobError{"invalid_input", 400, "bad"}, {}, 0, now_seconds() - 100);
+    store->finish(ids[3], JobState::succeeded, std::nullopt, {"result.glb"}, 1, now_seconds());
 
     auto p1 = store->list(std::nullopt, 2, "", std::nullopt);
     ASSERT_EQ(p1.jobs.size(), 2u);

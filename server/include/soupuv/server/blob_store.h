@@ -1,5 +1,6 @@
 // Where a job's files live: its input (input.glb|gltf|drc, texture.png|jpg)
-// and its results (result.glb, diagnostics.json, ...). The embedded default
+// and its results (result.glb, diagnostics.json, ..., stored per attempt:
+// result_blobs.h). The embedded default
 // is the data directory (FileBlobStore: DATA/jobs/<id>/<name>, what it has
 // always been); with --database-url they are chunked bytea rows in
 // PostgreSQL (PgBlobStore), so every node serves every job's files.
@@ -38,6 +39,9 @@ class BlobStore {
   virtual bool get(const std::string& id, const std::string& name, const std::filesystem::path& to);
   virtual std::vector<std::string> names(const std::string& id) = 0;
   virtual void remove(const std::string& id) = 0;  // every blob of the job
+  // Every blob of one attempt's results (named attempt_blob(attempt, ...),
+  // result_blobs.h), the other blobs of the job untouched.
+  virtual void remove_attempt(const std::string& id, int attempt) = 0;
 };
 
 // Piece size of reads and of PgBlobStore rows.

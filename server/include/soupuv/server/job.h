@@ -43,6 +43,9 @@ struct Job {
   int attempts = 0;           // worker starts (restart recovery re-runs)
   bool cancel_requested = false;
   std::vector<std::string> outputs;  // result files present: result.glb, diagnostics.json, ...
+  // The attempt whose blobs are the result (result_blobs.h), recorded with
+  // the outcome; 0: none, or a job finished before results were per attempt.
+  int result_attempt = 0;
 };
 
 nlohmann::json to_json(const Job& job);

@@ -36,8 +36,10 @@ class JobStore {
   virtual void requeue(const std::string& id) = 0;
   virtual void update_progress(const std::string& id, const std::string& stage, double fraction,
                                const nlohmann::json& stage_seconds) = 0;
+  // The job's outcome. `result_attempt`: the attempt whose blobs hold
+  // `outputs` (result_blobs.h), recorded in the same write; 0 with no outputs.
   virtual void finish(const std::string& id, JobState state, const std::optional<JobError>& error,
-                      const std::vector<std::string>& outputs, double at) = 0;
+                      const std::vector<std::string>& outputs, int result_attempt, double at) = 0;
   virtual void request_cancel(const std::string& id) = 0;
   virtual void remove(const std::string& id) = 0;
 

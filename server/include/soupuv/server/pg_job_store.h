@@ -29,7 +29,7 @@ class PgJobStore final : public JobStore, public JobQueue {
   void update_progress(const std::string& id, const std::string& stage, double fraction,
                        const nlohmann::json& stage_seconds) override;
   void finish(const std::string& id, JobState state, const std::optional<JobError>& error,
-              const std::vector<std::string>& outputs, double at) override;
+              const std::vector<std::string>& outputs, int result_attempt, double at) override;
   void request_cancel(const std::string& id) override;
   void remove(const std::string& id) override;
   std::vector<Job> unfinished() override;
