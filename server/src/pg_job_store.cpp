@@ -308,9 +308,12 @@ bool PgJobStore::progress(const Lease& lease, const std::string& stage, double f
 bool PgJobStore::complete(const Lease& lease, JobState state, const std::optional<JobError>& error,
                           const std::vector<std::string>& outputs) {
   auto c = pool_.take();
+  // The one statement that makes this attempt's blobs (result_blobs.h) the
+  // job's result: result_attempt is the lease's attempt, set with the state
+  // and only while the lease is held, so a late loser's blobs never become it.
   return c->exec(std::string("UPDATE soupuv_jobs SET state = $4, finished_at = ") + kNow +
-                     ", error_code = $5, error_status = $6, error_detail = $7, outputs = $8, stage = '',"
-                     " fraction = 0, lease_owner = NULL, lease_until = NULL" + kOwned,
+                     ", error_code = $5, error_status = $6, error_detail = $7, outputs = $8, result_attempt = $3,"
+                     " stage = '', fraction = 0, lease_owner = NULL, lease_until = NULL" + kOwned,
                  {lease.id, lease.owner, pg_int(lease.attempt), to_string(state),
                   error ? PgParam(error->code) : PgParam(), error ? pg_int(error->http_status) : PgParam(),
                   error ? PgParam(error->detail) : PgParam(), nlohmann::json(outputs).dump()})

@@ -17,6 +17,7 @@
 #include "soupuv/server/list_cursor.h"
 #include "soupuv/server/log.h"
 #include "soupuv/server/problem.h"
+#include "soupuv/server/result_blobs.h"
 #include "soupuv/server/sandbox.h"
 #include "soupuv/server/storage.h"
 #include "soupuv/server/upload_check.h"
@@ -594,8 +595,10 @@ void serve_output(ServerContext& ctx, const httplib::Request& req, httplib::Resp
                                                       : std::string("the job is ") + to_string(job->state),
                        extra);
   }
+  // The blob of the attempt the outcome names, never another attempt's
+  // (a late writer's) under the same file name (result_blobs.h).
   if (std::find(job->outputs.begin(), job->outputs.end(), name) == job->outputs.end() ||
-      !send_blob(res, *ctx.blobs, job->id, name, type))
+      !send_blob(res, *ctx.blobs, job->id, result_blob(*job, name), type))
     return set_problem(res, 404, "not-found", "this job has no " + name);
   res.status = 200;
   if (name == "result.glb") res.set_header("Content-Disposition", "attachment; filename=\"" + job->id + ".glb\"");

@@ -9,6 +9,7 @@
 #include <filesystem>
 
 #include "soupuv/server/log.h"
+#include "soupuv/server/result_blobs.h"
 #include "soupuv/server/sandbox.h"
 #include "soupuv/server/storage.h"
 #include "soupuv/server/worker_process.h"
@@ -453,10 +454,11 @@ bool Scheduler::run_job(const std::string& id) {
   // be recorded): put the job back at the end of the queue and try again
   // after the next jobs; store_write's retries are the back-off.
   if (!store_write("mark_running", [&] { store_.mark_running(id, now_seconds()); })) return true;
-  log::info("job started", {{"job", id}, {"attempt", job->attempts + 1}});
+  const int attempt_no = job->attempts + 1;  // mark_running counted it
+  log::info("job started", {{"job", id}, {"attempt", attempt_no}});
 
   Attempt a = attempt(
-      *job, *cancel,
+      *job, attempt_no, *cancel,
       [&](const std::string& stage, double f, const nlohmann::json& secs) { store_.update_progress(id, stage, f, secs); },
       [] { return true; });
   WorkerVerdict& verdict = a.verdict;
@@ -469,7 +471,6 @@ bool Scheduler::run_job(const std::string& id) {
       if (fresh && !fresh->cancel_requested) return false;
     }
   }
-  const int attempt_no = job->attempts + 1;
   if (verdict.retryable && verdict.error) {
     if (attempt_no < config_.max_attempts) {
       fs::remove_all(work);
@@ -482,9 +483,12 @@ bool Scheduler::run_job(const std::string& id) {
   fs::remove_all(work);
   // If the outcome cannot be recorded the job stays running in the store and
   // the next start runs it again (bounded by --max-attempts).
-  // 0: the results are still under their plain names.
-  if (!store_write("finish", [&] { store_.finish(id, verdict.state, verdict.error, a.outputs, 0, now_seconds()); }))
+  if (!store_write("finish",
+                   [&] { store_.finish(id, verdict.state, verdict.error, a.outputs, attempt_no, now_seconds()); }))
     return false;
+  // Results of earlier runs cut short by a restart between storing them and
+  // recording their outcome: never the job's result now.
+  discard_losing_attempts(blobs_, id, attempt_no);
   metrics_.job_finished(to_string(verdict.state));
   if (on_finish_) on_finish_(id);
   nlohmann::json fields = {{"job", id}, {"state", to_string(verdict.state)}, {"seconds", a.outcome.seconds},
@@ -505,11 +509,30 @@ void Scheduler::run_leased(const Job& job, const Lease& lease) {
     std::lock_guard lock(mu_);
     return lease_lost_[id];
   };
+  // This attempt's result blobs, once they cannot be the job's result: no one
+  // reads them (result_blobs.h), so they go now rather than at the TTL. A
+  // complete() refused on a retry may follow our own first one, committed
+  // with its answer lost: the row says whose result the job has.
+  auto discard_own = [&] {
+    try {
+      auto now = store_.get(id);
+      if (now && now->result_attempt == lease.attempt) return;
+    } catch (const std::exception&) {
+      return;  // unknown: left to the TTL sweep
+    }
+    discard_attempt(blobs_, id, lease.attempt);
+  };
   auto complete = [&](JobState state, const std::optional<JobError>& error, const std::vector<std::string>& outputs) {
     bool held = false;
     if (!store_write("finish", [&] { held = shared_->complete(lease, state, error, outputs); })) return false;
-    if (!held) log::warn("lease lost before the outcome was recorded; another attempt owns the job", {{"job", id}});
-    return held;
+    if (held) {
+      // Attempts that lost the job may have stored results before learning it.
+      discard_losing_attempts(blobs_, id, lease.attempt);
+      return true;
+    }
+    log::warn("lease lost before the outcome was recorded; another attempt owns the job", {{"job", id}});
+    if (!outputs.empty()) discard_own();
+    return false;
   };
   if (job.cancel_requested) {
     if (complete(JobState::canceled, std::nullopt, {})) metrics_.job_finished("canceled");
@@ -533,7 +556,7 @@ void Scheduler::run_leased(const Job& job, const Lease& lease) {
   }
 
   Attempt a = attempt(
-      job, *cancel,
+      job, lease.attempt, *cancel,
       [&](const std::string& stage, double f, const nlohmann::json& secs) {
         if (!shared_->progress(lease, stage, f, secs)) {
           std::lock_guard lock(mu_);
@@ -541,8 +564,10 @@ void Scheduler::run_leased(const Job& job, const Lease& lease) {
           cancel->store(true);
         }
       },
-      // Results are stored only while the lease is ours: a re-run elsewhere
-      // would otherwise have its files replaced by a late loser's.
+      // Results are stored only while the lease looks ours, which spares
+      // storing files that cannot win. It is not what keeps a re-run's
+      // result safe (the lease can be lost right after this check): that is
+      // the per-attempt blob names and complete() naming the attempt.
       [&] {
         if (lost()) return false;
         auto hb = shared_->heartbeat({lease}, config_.lease_seconds);
@@ -551,6 +576,7 @@ void Scheduler::run_leased(const Job& job, const Lease& lease) {
   WorkerVerdict& verdict = a.verdict;
   if (lost()) {
     log::warn("attempt abandoned: its lease was lost", {{"job", id}, {"attempt", lease.attempt}});
+    if (!a.outputs.empty()) discard_own();
     return;
   }
   {
@@ -584,8 +610,8 @@ void Scheduler::run_leased(const Job& job, const Lease& lease) {
   log::info("job finished", fields);
 }
 
-Scheduler::Attempt Scheduler::attempt(const Job& job, std::atomic<bool>& cancel, const ProgressWrite& progress,
-                                      const std::function<bool()>& may_store) {
+Scheduler::Attempt Scheduler::attempt(const Job& job, int attempt_no, std::atomic<bool>& cancel,
+                                      const ProgressWrite& progress, const std::function<bool()>& may_store) {
   const std::string& id = job.id;
   const fs::path dir = data_.job(id);
   const fs::path work = dir / "work";
@@ -726,7 +752,7 @@ Scheduler::Attempt Scheduler::attempt(const Job& job, std::atomic<bool>& cancel,
       }
       for (const auto& name : output_names())
         if (fs::exists(work / name)) {
-          blobs_.put(id, name, work / name);
+          blobs_.put(id, attempt_blob(attempt_no, name), work / name);
           a.outputs.push_back(name);
         }
     }

@@ -2,8 +2,9 @@
 // the embedded SQLite store / data directory, and PostgreSQL (a real server
 // started by pg_harness.h, one fresh database per test). Then the shared
 // queue's own rules (job_queue.h), which only the PostgreSQL store has:
-// SKIP LOCKED claims, leases, the reaper, owner-conditioned writes,
-// service-wide capacity and idempotency, TTL by the database clock, and
+// SKIP LOCKED claims, leases, the reaper, owner-conditioned writes (the
+// outcome naming the attempt whose result blobs count, so a late writer's
+// are not the result), service-wide capacity and idempotency, TTL by the database clock, and
 // migrations safe under concurrent starts.
 #include <gtest/gtest.h>
 
@@ -383,7 +384,46 @@ TEST(SharedQueue, ClaimsInOrderAndOwnerConditionedWrites) {
   auto done = a.store.get(j1.id);
   EXPECT_EQ(done->state, JobState::succeeded);
   EXPECT_EQ(done->attempts, 2);
+  EXPECT_EQ(done->result_attempt, 2);  // the lease's attempt, with the state
   EXPECT_GT(done->finished_at, 0);
+}
+
+// The window after a worker's last lease check: attempt 1 stores its result
+// after attempt 2 took the job over and recorded its outcome. The job's
+// result stays attempt 2's; attempt 1's refused complete() changes nothing.
+TEST(SharedQueue, LateWriterOfALostLeaseIsNotTheResult) {
+  const std::string url = fresh_pg_url();
+  REQUIRE_PG(url);
+  Node a(url), b(url);
+  auto blobs = open_pg_blob_store(a.pool);
+  const fs::path dir = soupuv::test::fresh_dir("late-writer-store");
+  auto put = [&](const std::string& id, const std::string& name, const std::string& bytes) {
+    std::ofstream(dir / "x", std::ios::binary) << bytes;
+    blobs->put(id, name, dir / "x");
+  };
+  Job j = new_job("h");
+  a.store.submit(j, 10);
+  auto c1 = a.store.claim("a/0", 30);
+  ASSERT_TRUE(c1);
+  ASSERT_TRUE(a.store.heartbeat({c1->second}, 30)[0].held);  // a's last check: held
+  PgConnection(url).exec("UPDATE soupuv_jobs SET lease_until = now() - interval '1 second' WHERE id = $1", {j.id});
+  ASSERT_EQ(b.store.reap(3).requeued, std::vector<std::string>{j.id});
+  auto c2 = b.store.claim("b/0", 30);
+  ASSERT_TRUE(c2);
+  put(j.id, attempt_blob(c2->second.attempt, "result.glb"), "attempt two");
+  ASSERT_TRUE(b.store.complete(c2->second, JobState::succeeded, std::nullopt, {"result.glb"}));
+  put(j.id, attempt_blob(c1->second.attempt, "result.glb"), "attempt one, late");
+  EXPECT_FALSE(a.store.complete(c1->second, JobState::succeeded, std::nullopt, {"result.glb"}));
+  auto done = b.store.get(j.id);
+  ASSERT_TRUE(done);
+  EXPECT_EQ(done->result_attempt, 2);
+  std::string got;
+  const std::string name = result_blob(*done, "result.glb");
+  ASSERT_TRUE(blobs->read(j.id, name, 0, blobs->size(j.id, name).value_or(0), [&](const char* p, size_t n) {
+    got.append(p, n);
+    return true;
+  }));
+  EXPECT_EQ(got, "attempt two");
 }
 
 TEST(SharedQueue, HeartbeatKeepsLeaseAndCarriesCancel) {

@@ -11,7 +11,9 @@
 // each worker thread claims the oldest queued job of the whole service as a
 // lease, a heartbeat thread renews the leases of the jobs running here and
 // learns of cancels requested on any node, and every write is conditioned on
-// the lease. Inputs come from and results go to the BlobStore.
+// the lease. Inputs come from and results go to the BlobStore, each attempt's
+// results under names of their own; the lease-conditioned outcome names the
+// attempt whose results are the job's (result_blobs.h).
 #pragma once
 
 #include <atomic>
@@ -84,11 +86,13 @@ class Scheduler {
   void run_leased(const Job& job, const Lease& lease);
   // The part of an attempt both queues share, once its start is recorded:
   // the worker process from argv to verdict, results stored in `blobs_` on
-  // success if `may_store()` still agrees. `progress` records a progress
-  // line (in the store, or under the lease).
+  // success if `may_store()` still agrees, as attempt `attempt_no`'s blobs
+  // (result_blobs.h: they become the job's result only when the outcome
+  // recorded names that attempt). `progress` records a progress line (in the
+  // store, or under the lease).
   struct Attempt;
   using ProgressWrite = std::function<void(const std::string& stage, double fraction, const nlohmann::json& secs)>;
-  Attempt attempt(const Job& job, std::atomic<bool>& cancel, const ProgressWrite& progress,
+  Attempt attempt(const Job& job, int attempt_no, std::atomic<bool>& cancel, const ProgressWrite& progress,
                   const std::function<bool()>& may_store);
   // Runs a store write, retrying a failing one (SQLITE_BUSY, a disk freed by
   // the sweeper) for a few seconds; false, logged, if it never succeeds.
