@@ -1,15 +1,26 @@
 // The API's service-wide promises with --database-url, over HTTP, on two
 // nodes sharing a real PostgreSQL (pg_harness.h). The worker is the protocol
-// double (worker_double.sh, "slow": a job lasts as long as the test wants),
-// so these test the server, never a mapping.
+// double (worker_double.sh, "slow": a job lasts as long as the test wants;
+// "stamp": each run's result differs), so these test the server, never a
+// mapping.
 #include <gtest/gtest.h>
 
+#include <cstdlib>
+#include <fstream>
 #include <sstream>
 #include <thread>
 
+#include "frozen_node.h"
 #include "harness.h"
 #include "pg_harness.h"
+#include "soupuv/server/blob_store.h"
+#include "soupuv/server/files.h"
+#include "soupuv/server/metrics.h"
+#include "soupuv/server/pg_job_store.h"
+#include "soupuv/server/pg_schema.h"
+#include "soupuv/server/scheduler.h"
 
+namespace fs = std::filesystem;
 using namespace soupuv::test;
 
 namespace {
@@ -139,4 +150,88 @@ TEST(ClusterApi, FolderUploadRunsFromTheSharedStore) {
   ASSERT_EQ(r->status, 202) << r->body;
   const auto done = wait_finished(c, nlohmann::json::parse(r->body)["id"], 120);
   EXPECT_EQ(done["state"], "succeeded") << done.dump();
+}
+
+// The window a lease check cannot close. Node A's worker finished; A asked
+// the database whether its lease still held (yes) and then froze before
+// storing its result. While it was frozen its lease lapsed and node B ran
+// the job again and recorded its outcome. A then thawed and stored its
+// result after all (its complete() is refused, but the blobs were written).
+// What downloads must stay B's result, byte for byte.
+//
+// Node A is an in-process Scheduler behind FrozenNodeQueue (frozen_node.h);
+// node B a real server. The worker double in `stamp` mode makes each run's
+// result and diagnostics different, so an overwrite shows.
+TEST(ClusterApi, LateWriterAfterALostLeaseDoesNotChangeTheDownload) {
+  using namespace soupuv::server;
+  START_POSTGRES(pg);
+  {
+    PgConnection c(pg.url());
+    migrate_pg_schema(c);
+  }
+  // The job, with its input in the blob store, as a node's upload leaves it.
+  PgPool pool(pg.url(), 4);
+  PgJobStore store(pool);
+  auto blobs = open_pg_blob_store(pool);
+  const fs::path dir = fresh_dir("late-writer-a");
+  std::ofstream(dir / "upload.glb") << "the input bytes\n";
+  Job job;
+  job.id = new_job_id();
+  job.created_at = now_seconds();
+  job.input_file = "input.glb";
+  job.content_type = "model/gltf-binary";
+  job.input_bytes = 16;
+  job.request_hash = "late-writer";
+  blobs->put(job.id, "input.glb", dir / "upload.glb");
+  ASSERT_EQ(store.submit(job, 10).admission, Admission::accepted);
+
+  // Node A: runs attempt 1 and freezes after its last lease check.
+  Config config;
+  config.workers = 1;
+  config.threads = 1;
+  config.lease_seconds = 2;
+  config.poll_interval_ms = 200;
+  config.worker_env = {"SOUPUV_TEST_WORKER_MODE", "SOUPUV_TEST_WORKER_SECONDS"};
+  setenv("SOUPUV_TEST_WORKER_MODE", "stamp", 1);
+  setenv("SOUPUV_TEST_WORKER_SECONDS", "0", 1);
+  DataDir data(dir / "data");
+  Metrics metrics;
+  FrozenNodeQueue frozen(store);
+  Scheduler a(config, SOUPUV_WORKER_DOUBLE, probe_worker(SOUPUV_WORKER_DOUBLE), store, data, metrics, *blobs, &frozen,
+              "frozen-a");
+  a.start();
+  ASSERT_TRUE(frozen.wait_frozen(30)) << "node A never reached its last lease check";
+
+  // Node B: its reaper takes the lapsed lease, its worker runs attempt 2.
+  auto b = with_double("late-writer-b", "stamp",
+                       {"--database-url", pg.url(), "--workers", "1", "--lease-seconds", "5", "--poll-interval-ms",
+                        "200"},
+                       "0");
+  auto c = b->client();
+  auto done = wait_finished(c, job.id, 30);
+  ASSERT_EQ(done["state"], "succeeded") << done.dump();
+  EXPECT_EQ(done["attempts"], 2);
+  auto download = [&](const std::string& what) {
+    auto r = c.Get(("/v1/jobs/" + job.id + "/" + what).c_str());
+    return r && r->status == 200 ? r->body : std::string("(no ") + what + ")";
+  };
+  const std::string result = download("result"), diagnostics = download("diagnostics");
+  ASSERT_NE(result.find("the input bytes"), std::string::npos) << result;
+
+  // A thaws and goes on with its stale "held": it stores attempt 1's files.
+  frozen.thaw();
+  for (int i = 0; i < 200 && a.busy_workers() > 0; ++i) std::this_thread::sleep_for(std::chrono::milliseconds(100));
+  EXPECT_EQ(a.busy_workers(), 0);
+  a.stop();
+  unsetenv("SOUPUV_TEST_WORKER_MODE");
+  unsetenv("SOUPUV_TEST_WORKER_SECONDS");
+
+  EXPECT_EQ(download("result"), result) << "the late writer of attempt 1 replaced attempt 2's result";
+  EXPECT_EQ(download("diagnostics"), diagnostics);
+  auto after = wait_finished(c, job.id, 5);
+  EXPECT_EQ(after["state"], "succeeded");
+  EXPECT_EQ(after["attempts"], 2);
+  // The loser's files are gone at once, not left for the TTL sweep.
+  for (const auto& name : blobs->names(job.id))
+    EXPECT_EQ(name.rfind("attempt-1/", 0), std::string::npos) << name;
 }

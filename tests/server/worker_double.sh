@@ -7,6 +7,9 @@
 #   crash - killed by SIGSEGV      hang - ignores SIGTERM, sleeps
 #   fail  - "soupuv: ..." and exit 3 (invalid input)
 #   badprogress - a progress line whose fraction is not a number, then as slow
+#   stamp - as slow, but the result (and diagnostics) also carry this run's pid
+#           and clock, so two runs of one job store different bytes: a test
+#           can tell whose result a download serves (never a mapping)
 #   escape - what a hostile model's parser would try: read the files named by
 #            SOUPUV_TEST_ESCAPE_READ (colon-separated) and the server's
 #            environment, write SOUPUV_TEST_ESCAPE_WRITE, print its
@@ -61,5 +64,10 @@ while [ "$i" -lt "$secs" ]; do
   i=$((i + 1))
 done
 cp "$in" "$out"
-[ -n "$diag" ] && echo '{"double":true}' > "$diag"
+run="$$-$(date +%s%N)"
+[ "$mode" = stamp ] && echo "run $run" >> "$out"
+if [ -n "$diag" ]; then
+  if [ "$mode" = stamp ]; then echo "{\"double\":true,\"run\":\"$run\"}" > "$diag"
+  else echo '{"double":true}' > "$diag"; fi
+fi
 exit 0
