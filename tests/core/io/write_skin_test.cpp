@@ -5,11 +5,13 @@
 // GLB built here (two skin sets, ubyte joints, normalized-ubyte weights) runs
 // without the shared data; CesiumMan checks a real asset. A skin whose joint
 // the strict output tree has to copy is dropped with its attributes, said in
-// a warning. (The Khronos validator checks CesiumMan's and Fox's outputs in
+// a warning. The Draco payload carries the same values. (The Khronos validator checks CesiumMan's and Fox's outputs in
 // the cli.map.* tests.)
 #include <gtest/gtest.h>
 
 #include <algorithm>
+
+#include <draco/compression/decode.h>
 
 #include "load_test_support.h"
 #include "soupuv/baseline/box_projection.h"
@@ -180,6 +182,53 @@ TEST(WriteSkin, JointWithTwoParentsDropsTheSkinAndSaysWhy) {
   EXPECT_FALSE(r.out.contains("skins"));
   for (const json& node : r.out["nodes"]) EXPECT_FALSE(node.contains("skin"));
   EXPECT_TRUE(r.after.attributes.joints.empty()) << "joint indices without their skin name nothing";
+}
+
+// With --draco the skin sets travel inside the Draco payload: decoded there,
+// every point has the joints and weights of the input vertex at its position
+// (each of the built mesh's positions is one vertex), in the type its
+// accessor states.
+TEST(WriteSkin, DracoPayloadCarriesTheSkinSets) {
+  const Asset before = load_memory(skinned_glb());
+  WriteOptions options;
+  options.draco = true;
+  const WriteResult written = write_glb(before, baseline::box_projection(before.soup).corner_uvs, options);
+  const testing::Glb glb(written.glb);
+  const json& prim = glb.doc["meshes"][0]["primitives"][0];
+  const json& ids = prim["extensions"]["KHR_draco_mesh_compression"]["attributes"];
+  std::vector<uint8_t> payload = glb.view(prim["extensions"]["KHR_draco_mesh_compression"]["bufferView"]);
+  draco::DecoderBuffer buffer;
+  buffer.Init(reinterpret_cast<const char*>(payload.data()), payload.size());
+  draco::Decoder decoder;
+  auto decoded = decoder.DecodeMeshFromBuffer(&buffer);
+  ASSERT_TRUE(decoded.ok()) << decoded.status().error_msg();
+  const draco::Mesh& mesh = *decoded.value();
+  const draco::PointAttribute* position = mesh.GetAttributeByUniqueId(ids["POSITION"]);
+  ASSERT_NE(position, nullptr);
+  for (int n = 0; n < 2; ++n) {
+    const std::string joints_name = "JOINTS_" + std::to_string(n), weights_name = "WEIGHTS_" + std::to_string(n);
+    ASSERT_TRUE(ids.contains(joints_name) && ids.contains(weights_name)) << n;
+    EXPECT_EQ(glb.doc["accessors"][prim["attributes"][joints_name].get<size_t>()]["componentType"], 5121);
+    EXPECT_EQ(glb.doc["accessors"][prim["attributes"][weights_name].get<size_t>()]["componentType"], 5126);
+    const draco::PointAttribute* joints = mesh.GetAttributeByUniqueId(ids[joints_name]);
+    const draco::PointAttribute* weights = mesh.GetAttributeByUniqueId(ids[weights_name]);
+    ASSERT_TRUE(joints && weights);
+    EXPECT_EQ(joints->data_type(), draco::DT_UINT8);
+    for (draco::PointIndex p(0); p < mesh.num_points(); ++p) {
+      std::array<float, 3> xyz;
+      std::array<uint16_t, 4> j;
+      std::array<float, 4> w;
+      position->ConvertValue<float, 3>(position->mapped_index(p), xyz.data());
+      joints->ConvertValue<uint16_t, 4>(joints->mapped_index(p), j.data());
+      weights->ConvertValue<float, 4>(weights->mapped_index(p), w.data());
+      auto v = std::find(before.local_positions.begin(), before.local_positions.end(), xyz);
+      ASSERT_NE(v, before.local_positions.end());
+      const size_t vertex = size_t(v - before.local_positions.begin());
+      EXPECT_EQ(j, before.attributes.joints[n][vertex]) << "point " << p.value();
+      EXPECT_EQ(w, before.attributes.weights[n][vertex]) << "point " << p.value();
+    }
+  }
+  EXPECT_TRUE(glb.doc.contains("skins"));
 }
 
 TEST(WriteSkin, CesiumManKeepsJointsWeightsAndSkin) {
