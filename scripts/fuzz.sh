@@ -19,7 +19,7 @@ mkdir -p "$out/obj" "$out/corpus" "$out/artifacts"
 
 # The loader's own sources (not the writer's, which share core/src/io/).
 loader_sources="checked_json glb_container data_uri buffer_table accessors draco_decode
-                primitive_geometry scene_flatten source_images load"
+                primitive_geometry skin_attributes scene_flatten source_images source_skins load"
 flags="-std=c++20 -g -O1 -fsanitize=fuzzer-no-link,address,undefined -fno-sanitize-recover=undefined
        -I$root/core/include -I$root/core/src"
 objects=""

@@ -14,17 +14,22 @@ namespace soupuv::io::detail {
 
 namespace {
 
-int add_float_attribute(draco::Mesh& mesh, draco::GeometryAttribute::Type type, int components,
-                        const std::vector<float>& values, size_t points) {
+template <class T>
+int add_attribute(draco::Mesh& mesh, draco::GeometryAttribute::Type type, draco::DataType data_type,
+                  int components, const std::vector<T>& values, size_t points) {
   draco::GeometryAttribute attribute;
-  attribute.Init(type, nullptr, static_cast<int8_t>(components), draco::DT_FLOAT32, false,
-                 sizeof(float) * components, 0);
+  attribute.Init(type, nullptr, static_cast<int8_t>(components), data_type, false, sizeof(T) * components, 0);
   int id = mesh.AddAttribute(attribute, /*identity_mapping=*/true, static_cast<uint32_t>(points));
   draco::PointAttribute* pa = mesh.attribute(id);
   for (size_t i = 0; i < points; ++i)
     pa->SetAttributeValue(draco::AttributeValueIndex(static_cast<uint32_t>(i)),
                           &values[i * components]);
   return id;
+}
+
+int add_float_attribute(draco::Mesh& mesh, draco::GeometryAttribute::Type type, int components,
+                        const std::vector<float>& values, size_t points) {
+  return add_attribute(mesh, type, draco::DT_FLOAT32, components, values, points);
 }
 
 }  // namespace
@@ -48,13 +53,32 @@ DracoPrimitive draco_encode(const OutPrimitive& primitive, int position_bits, in
                        ? -1
                        : add_float_attribute(mesh, draco::GeometryAttribute::NORMAL, 3,
                                              primitive.normals, points);
-  std::vector<std::pair<std::string, int>> extra_atts;
+  constexpr int kFloat = 5126, kUnsignedByte = 5121, kUnsignedShort = 5123;
+  std::vector<DracoPrimitive::Extra> extra_atts;  // id: the attribute's index until encoded
   if (!primitive.colors.empty())
     extra_atts.push_back({"COLOR_0", add_float_attribute(mesh, draco::GeometryAttribute::COLOR, 4,
-                                                         primitive.colors, points)});
+                                                         primitive.colors, points), kFloat, "VEC4"});
   for (const auto& [set, values] : primitive.texcoords)
     extra_atts.push_back({"TEXCOORD_" + std::to_string(set + 1),
-                          add_float_attribute(mesh, draco::GeometryAttribute::TEX_COORD, 2, values, points)});
+                          add_float_attribute(mesh, draco::GeometryAttribute::TEX_COORD, 2, values, points),
+                          kFloat, "VEC2"});
+  // Skinning has no Draco attribute type of its own: GENERIC, with the
+  // integer type the accessor states so the decoder hands back the same values.
+  for (size_t n = 0; n < primitive.skin_sets.size(); ++n) {
+    const auto& set = primitive.skin_sets[n];
+    int joints;
+    if (joints_fit_bytes(set.joints)) {
+      std::vector<uint8_t> narrow(set.joints.begin(), set.joints.end());
+      joints = add_attribute(mesh, draco::GeometryAttribute::GENERIC, draco::DT_UINT8, 4, narrow, points);
+    } else {
+      joints = add_attribute(mesh, draco::GeometryAttribute::GENERIC, draco::DT_UINT16, 4, set.joints, points);
+    }
+    extra_atts.push_back({"JOINTS_" + std::to_string(n), joints,
+                          joints_fit_bytes(set.joints) ? kUnsignedByte : kUnsignedShort, "VEC4"});
+    extra_atts.push_back({"WEIGHTS_" + std::to_string(n),
+                          add_float_attribute(mesh, draco::GeometryAttribute::GENERIC, 4, set.weights, points),
+                          kFloat, "VEC4"});
+  }
 
   draco::Encoder encoder;
   if (position_bits > 0)
@@ -71,8 +95,10 @@ DracoPrimitive draco_encode(const OutPrimitive& primitive, int position_bits, in
   out.position_id = static_cast<int>(mesh.attribute(position_att)->unique_id());
   out.texcoord_id = static_cast<int>(mesh.attribute(texcoord_att)->unique_id());
   if (normal_att >= 0) out.normal_id = static_cast<int>(mesh.attribute(normal_att)->unique_id());
-  for (const auto& [name, att] : extra_atts)
-    out.extra_ids.push_back({name, static_cast<int>(mesh.attribute(att)->unique_id())});
+  for (DracoPrimitive::Extra extra : extra_atts) {
+    extra.id = static_cast<int>(mesh.attribute(extra.id)->unique_id());
+    out.extra_ids.push_back(extra);
+  }
 
   draco::DecoderBuffer in;
   in.Init(reinterpret_cast<const char*>(out.bytes.data()), out.bytes.size());

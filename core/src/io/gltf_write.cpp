@@ -18,7 +18,7 @@ using nlohmann::json;
 using namespace detail;
 
 constexpr int kArrayBuffer = 34962, kElementArrayBuffer = 34963;
-constexpr int kFloat = 5126, kUnsignedShort = 5123, kUnsignedInt = 5125;
+constexpr int kFloat = 5126, kUnsignedByte = 5121, kUnsignedShort = 5123, kUnsignedInt = 5125;
 constexpr int kTriangles = 4;
 
 template <class T>
@@ -47,11 +47,10 @@ const json& array_or_empty(const json& document, const char* key) {
   return it != document.end() && it->is_array() ? *it : empty;
 }
 
+// Skins are kept (plan_skins warns about any it drops); what animates them is not.
 void warn_dropped(const json& document, std::vector<std::string>& warnings) {
-  if (!array_or_empty(document, "skins").empty())
-    warnings.push_back("skins dropped: the output is the static bind pose");
   if (!array_or_empty(document, "animations").empty())
-    warnings.push_back("animations dropped: the output is the static bind pose");
+    warnings.push_back("animations dropped: the output is static (its skins are kept)");
   bool morph = false;
   for (const json& mesh : array_or_empty(document, "meshes"))
     if (mesh.is_object())
@@ -67,6 +66,22 @@ std::string node_or_mesh_name(const json& document, const OutMesh& mesh) {
       meshes[mesh.source_mesh]["name"].is_string())
     return meshes[mesh.source_mesh]["name"].get<std::string>();
   return "mesh " + std::to_string(mesh.source_mesh);
+}
+
+// Gives an output mesh's node its skin: the source node's skin when the
+// writer kept it and every primitive carries JOINTS_0 (a skin on a mesh with
+// a primitive lacking joints is invalid glTF).
+void attach_skin(const json& document, int32_t source_node, const OutMesh& mesh, const SkinPlan& skins,
+                 json& node, std::vector<std::string>& warnings) {
+  const int32_t skin = node_skin(document, source_node);
+  if (skin < 0 || skins.output_skin[skin] < 0) return;
+  for (const OutPrimitive& p : mesh.primitives)
+    if (p.skin_sets.empty()) {
+      warnings.push_back("skin " + std::to_string(skin) + " not attached to node " + std::to_string(source_node) +
+                         ": a primitive of its mesh has no JOINTS_0/WEIGHTS_0");
+      return;
+    }
+  node["skin"] = skins.output_skin[skin];
 }
 
 struct Builder {
@@ -97,6 +112,21 @@ struct Builder {
       attributes["TEXCOORD_" + std::to_string(set + 1)] =
           accessor({{"bufferView", bin.add_view(as_bytes(values), kArrayBuffer)},
                     {"componentType", kFloat}, {"count", n}, {"type", "VEC2"}});
+    for (size_t set = 0; set < p.skin_sets.size(); ++set) {
+      const auto& [joints, weights] = p.skin_sets[set];
+      json joints_accessor = {{"componentType", kUnsignedShort}, {"count", n}, {"type", "VEC4"}};
+      if (joints_fit_bytes(joints)) {
+        std::vector<uint8_t> narrow(joints.begin(), joints.end());
+        joints_accessor["componentType"] = kUnsignedByte;
+        joints_accessor["bufferView"] = bin.add_view(narrow, kArrayBuffer);
+      } else {
+        joints_accessor["bufferView"] = bin.add_view(as_bytes(joints), kArrayBuffer);
+      }
+      attributes["JOINTS_" + std::to_string(set)] = accessor(joints_accessor);
+      attributes["WEIGHTS_" + std::to_string(set)] =
+          accessor({{"bufferView", bin.add_view(as_bytes(weights), kArrayBuffer)},
+                    {"componentType", kFloat}, {"count", n}, {"type", "VEC4"}});
+    }
     int indices;
     // 65535 is the primitive-restart value of unsigned short, so it may not be an index.
     if (n < 65535) {
@@ -123,14 +153,15 @@ struct Builder {
     attributes["TEXCOORD_0"] = accessor({{"componentType", kFloat}, {"count", d.points}, {"type", "VEC2"}});
     if (d.normal_id >= 0)
       attributes["NORMAL"] = accessor({{"componentType", kFloat}, {"count", d.points}, {"type", "VEC3"}});
-    for (const auto& [name, id] : d.extra_ids)
-      attributes[name] = accessor({{"componentType", kFloat}, {"count", d.points}, {"type", name == "COLOR_0" ? "VEC4" : "VEC2"}});
+    for (const DracoPrimitive::Extra& extra : d.extra_ids)
+      attributes[extra.name] = accessor({{"componentType", extra.component_type}, {"count", d.points},
+                                         {"type", extra.type}});
     int indices = accessor({{"componentType", d.points < 65535 ? kUnsignedShort : kUnsignedInt},
                             {"count", d.faces * 3}, {"type", "SCALAR"}});
     json extension = {{"bufferView", bin.add_view(d.bytes, 0)},
                       {"attributes", {{"POSITION", d.position_id}, {"TEXCOORD_0", d.texcoord_id}}}};
     if (d.normal_id >= 0) extension["attributes"]["NORMAL"] = d.normal_id;
-    for (const auto& [name, id] : d.extra_ids) extension["attributes"][name] = id;
+    for (const DracoPrimitive::Extra& extra : d.extra_ids) extension["attributes"][extra.name] = extra.id;
     return json{{"attributes", attributes}, {"indices", indices}, {"mode", kTriangles},
                 {"extensions", {{"KHR_draco_mesh_compression", extension}}}};
   }
@@ -144,6 +175,10 @@ std::vector<std::string> written_attributes(const std::vector<OutMesh>& meshes) 
       if (!p.normals.empty()) names.insert("NORMAL");
       if (!p.colors.empty()) names.insert("COLOR_0");
       for (const auto& [set, values] : p.texcoords) names.insert("TEXCOORD_" + std::to_string(set + 1));
+      for (size_t set = 0; set < p.skin_sets.size(); ++set) {
+        names.insert("JOINTS_" + std::to_string(set));
+        names.insert("WEIGHTS_" + std::to_string(set));
+      }
     }
   return {names.begin(), names.end()};
 }
@@ -167,14 +202,28 @@ WriteResult write_glb(const Asset& asset, std::span<const Vec2> corner_uvs,
   warn_dropped(document, result.warnings);
   InstanceTable table = instance_table(asset);
   std::vector<Float3> positions = corner_positions(asset, table, result.warnings);
+  NodeTree tree = expand_node_tree(document);
+  std::vector<int32_t> placement = place_instances(tree, table.instances);
+  SkinPlan skins = plan_skins(asset, tree, result.warnings);
+  // An instance keeps its skinning attributes unless its node's skin was
+  // dropped: without the skin, joint indices name nothing.
+  std::vector<bool> skinned_instances(table.instances.size());
+  for (size_t i = 0; i < table.instances.size(); ++i) {
+    const int32_t skin = node_skin(document, table.instances[i].node);
+    skinned_instances[i] = skin < 0 || skins.output_skin[skin] >= 0;
+  }
   BuildCounts counts;
   std::vector<OutMesh> meshes = build_meshes(asset, table, positions, corner_uvs, options.normals,
-                                             options.keep_colors, counts);
+                                             options.keep_colors, skinned_instances, counts);
   result.nonfinite_uvs = counts.nonfinite_uvs;
   result.degenerate_normals = counts.degenerate_normals;
   if (counts.replaced_normals > 0)
     result.warnings.push_back(std::to_string(counts.replaced_normals) +
                               " source NORMAL(s) were zero or not finite; the triangle's flat normal was written");
+  if (counts.normalized_weights > 0)
+    result.warnings.push_back(std::to_string(counts.normalized_weights) +
+                              " vertices' skin weights did not sum to 1 and were normalized (as glTF requires"
+                              " and renderers do on loading); the others are the input's bit for bit");
   result.attributes = written_attributes(meshes);
   if (result.degenerate_normals > 0)
     result.warnings.push_back(std::to_string(result.degenerate_normals) +
@@ -213,9 +262,6 @@ WriteResult write_glb(const Asset& asset, std::span<const Vec2> corner_uvs,
   const int default_material = static_cast<int>(materials.size()) - 1;
   out["materials"] = materials;
 
-  NodeTree tree = expand_node_tree(document);
-  std::vector<int32_t> placement = place_instances(tree, table.instances);
-
   json out_meshes = json::array();
   for (const OutMesh& m : meshes) {
     json mesh = {{"name", node_or_mesh_name(document, m)}, {"primitives", json::array()}};
@@ -231,6 +277,19 @@ WriteResult write_glb(const Asset& asset, std::span<const Vec2> corner_uvs,
     int mesh_index = static_cast<int>(out_meshes.size());
     out_meshes.push_back(mesh);
     tree.nodes[placement[m.instance]]["mesh"] = mesh_index;
+    attach_skin(document, table.instances[m.instance].node, m, skins, tree.nodes[placement[m.instance]],
+                result.warnings);
+  }
+  if (!skins.skins.empty()) {
+    for (size_t s = 0; s < skins.skins.size(); ++s) {
+      const std::vector<float>& matrices = asset.skins[skins.source_skin[s]].inverse_bind_matrices;
+      if (matrices.empty()) continue;  // identity, as in the source
+      // No target: these are not vertex data (the validator checks).
+      skins.skins[s]["inverseBindMatrices"] =
+          builder.accessor({{"bufferView", builder.bin.add_view(as_bytes(matrices), 0)},
+                            {"componentType", kFloat}, {"count", matrices.size() / 16}, {"type", "MAT4"}});
+    }
+    out["skins"] = skins.skins;
   }
   result.meshes = out_meshes.size();
   out["meshes"] = out_meshes;

@@ -2,6 +2,7 @@
 //   gltf_write_nodes.cpp     output node tree, instance placement, corner positions
 //   gltf_write_weld.cpp      grouping triangles per (node, mesh, primitive); welding
 //   gltf_write_materials.cpp materials with our baseColorTexture
+//   gltf_write_skins.cpp     skins re-pointed at the output nodes
 //   gltf_write_glb.cpp       BIN chunk assembly and the GLB container
 //   draco_encode.cpp         KHR_draco_mesh_compression payloads
 #pragma once
@@ -66,9 +67,24 @@ struct OutPrimitive {
   std::vector<float> colors;     // COLOR_0 rgba per vertex, or empty
   // The source's TEXCOORD_n (written as TEXCOORD_n+1): (n, uv per vertex).
   std::vector<std::pair<int, std::vector<float>>> texcoords;
+  // The source's JOINTS_n / WEIGHTS_n, sets 0..k-1 (glTF wants them numbered
+  // without gaps), written under the same names: 4 values per vertex each.
+  struct SkinSet {
+    std::vector<uint16_t> joints;
+    std::vector<float> weights;
+  };
+  std::vector<SkinSet> skin_sets;
   std::vector<uint32_t> indices;
   size_t vertex_count() const { return positions.size() / 3; }
 };
+
+// Whether a skin set's joint indices all fit UNSIGNED_BYTE (the writer then
+// uses it, half the bytes of UNSIGNED_SHORT; the values are the same).
+inline bool joints_fit_bytes(const std::vector<uint16_t>& joints) {
+  for (uint16_t j : joints)
+    if (j > 255) return false;
+  return true;
+}
 
 // One output mesh per mesh instance.
 struct OutMesh {
@@ -82,17 +98,37 @@ struct BuildCounts {
   size_t nonfinite_uvs = 0;       // corner UVs written as (0,0)
   size_t degenerate_normals = 0;  // flat normals of float-degenerate triangles (+z)
   size_t replaced_normals = 0;    // source NORMALs zero or non-finite: the flat normal written
+  size_t normalized_weights = 0;  // output vertices whose source weights did not sum to 1 (normalized)
 };
 
 // Groups soup triangles by origin and welds their corners. Non-finite UVs are
 // written as (0,0). With flat_normals every corner carries its triangle's unit
 // normal (triangles degenerate in float get +z); otherwise a primitive whose
 // source had NORMAL keeps it (normalized). With keep_colors, COLOR_0 is kept;
-// the source's TEXCOORD_n always are. Corners weld only where all agree.
+// the source's TEXCOORD_n always are, and so are JOINTS_n/WEIGHTS_n on the
+// instances marked in skinned_instances. Corners weld only where all agree.
 std::vector<OutMesh> build_meshes(const Asset& asset, const InstanceTable& table,
                                   std::span<const Float3> corner_positions,
                                   std::span<const Vec2> corner_uvs, bool flat_normals, bool keep_colors,
-                                  BuildCounts& counts);
+                                  const std::vector<bool>& skinned_instances, BuildCounts& counts);
+
+// The output skins. A source skin is kept when its inverse bind matrices were
+// read and each of its joints, and its skeleton, is exactly one output node:
+// a joint the node-tree expansion copied onto several paths (a node with
+// several parents) or left out (in no scene) has no single node to name, so
+// that skin is dropped with a warning saying which node. The JSON keeps name,
+// extras, joints and skeleton (re-numbered); inverseBindMatrices is set by the
+// caller, which owns the accessors.
+struct SkinPlan {
+  std::vector<int32_t> output_skin;  // per source skin: its output index, -1 when dropped
+  nlohmann::json skins = nlohmann::json::array();
+  std::vector<int32_t> source_skin;  // per output skin
+};
+SkinPlan plan_skins(const Asset& asset, const NodeTree& tree, std::vector<std::string>& warnings);
+
+// The source skin of a node (its "skin"), or -1 when it has none or names none of the document's skins.
+int32_t node_skin(const nlohmann::json& document, int32_t node);
+
 
 // The document's materials with baseColorTexture set to texture_index on
 // TEXCOORD_0 and everything that referred to the old UVs dropped (warned once
@@ -123,8 +159,15 @@ struct DracoPrimitive {
   int position_id = -1;  // Draco attribute unique ids, for the extension object
   int texcoord_id = -1;
   int normal_id = -1;    // -1 when the primitive has no normals
-  // Further attributes (COLOR_0, TEXCOORD_1..): glTF name -> Draco id.
-  std::vector<std::pair<std::string, int>> extra_ids;
+  // Further attributes (COLOR_0, TEXCOORD_1.., JOINTS_n, WEIGHTS_n) and what
+  // their accessors must say the decoder gives.
+  struct Extra {
+    std::string name;
+    int id = -1;              // Draco unique id
+    int component_type = 0;   // glTF componentType
+    const char* type = "";    // glTF accessor type
+  };
+  std::vector<Extra> extra_ids;
   size_t points = 0;     // vertex count after decoding (the accessors' count)
   size_t faces = 0;
 };

@@ -10,6 +10,7 @@
 #include <unordered_map>
 
 #include "gltf_write_parts.h"
+#include "io/skin_weights.h"
 #include "soupuv/errors.h"
 
 namespace soupuv::io::detail {
@@ -18,7 +19,7 @@ namespace {
 
 // Bit patterns of everything a written vertex carries: position, UV, normal
 // (zero when not written: -0.0 and 0.0 stay distinct, as in the source), then
-// colour and the source UV sets when the primitive keeps them.
+// colour, the source UV sets and the skin sets when the primitive keeps them.
 using CornerKey = std::vector<uint32_t>;
 
 struct CornerKeyHash {
@@ -52,7 +53,7 @@ Float3 flat_normal(const Float3& a, const Float3& b, const Float3& c, size_t& de
 std::vector<OutMesh> build_meshes(const Asset& asset, const InstanceTable& table,
                                   std::span<const Float3> corner_positions,
                                   std::span<const Vec2> corner_uvs, bool flat_normals, bool keep_colors,
-                                  BuildCounts& counts) {
+                                  const std::vector<bool>& skinned_instances, BuildCounts& counts) {
   const Soup& soup = asset.soup;
   const VertexAttributes& attrs = asset.attributes;
   // instance -> primitive -> triangles; std::map keeps the output order
@@ -81,6 +82,11 @@ std::vector<OutMesh> build_meshes(const Asset& asset, const InstanceTable& table
       const bool colors = keep_colors && (present & VertexAttributes::kColor);
       for (int n = 0; n < int(attrs.texcoords.size()); ++n)
         if (present & VertexAttributes::texcoord_bit(n)) out.texcoords.push_back({n, {}});
+      // Skin sets from 0 up to the first the primitive lacks: a later set
+      // alone would leave a gap in the numbering, which glTF forbids.
+      if (key < skinned_instances.size() && skinned_instances[key])
+        for (int n = 0; n < int(attrs.joints.size()) && (present & VertexAttributes::skin_bit(n)); ++n)
+          out.skin_sets.emplace_back();
       std::unordered_map<CornerKey, uint32_t, CornerKeyHash> welded;
       welded.reserve(triangles.size() * 3);
       out.indices.reserve(triangles.size() * 3);
@@ -126,6 +132,12 @@ std::vector<OutMesh> build_meshes(const Asset& asset, const InstanceTable& table
               float x = attrs.texcoords[n][v][c];
               ck.push_back(bits_of(std::isfinite(x) ? x : 0.0f));
             }
+          std::array<std::array<float, 4>, VertexAttributes::kMaxSkinSets> weights;
+          const std::span<std::array<float, 4>> vertex_weights(weights.data(), out.skin_sets.size());
+          for (size_t n = 0; n < out.skin_sets.size(); ++n) weights[n] = attrs.weights[n][v];
+          const bool normalized = normalize_skin_weights(vertex_weights);
+          for (size_t n = 0; n < out.skin_sets.size(); ++n)
+            for (int c = 0; c < 4; ++c) ck.insert(ck.end(), {attrs.joints[n][v][c], bits_of(weights[n][c])});
           auto [it, inserted] = welded.try_emplace(ck, static_cast<uint32_t>(out.vertex_count()));
           if (inserted) {
             out.positions.insert(out.positions.end(), {p[0], p[1], p[2]});
@@ -137,6 +149,14 @@ std::vector<OutMesh> build_meshes(const Asset& asset, const InstanceTable& table
                 float x = attrs.texcoords[n][v][c];
                 values.push_back(std::isfinite(x) ? x : 0.0f);
               }
+            // Skinning values are copied as read (the source's skin gave them
+            // their meaning), weights normalized only where glTF requires it.
+            for (size_t n = 0; n < out.skin_sets.size(); ++n) {
+              out.skin_sets[n].joints.insert(out.skin_sets[n].joints.end(), attrs.joints[n][v].begin(),
+                                             attrs.joints[n][v].end());
+              out.skin_sets[n].weights.insert(out.skin_sets[n].weights.end(), weights[n].begin(), weights[n].end());
+            }
+            if (normalized) ++counts.normalized_weights;
           }
           out.indices.push_back(it->second);
         }

@@ -15,6 +15,7 @@
 #include "io/glb_container.h"
 #include "io/primitive_geometry.h"
 #include "io/scene_flatten.h"
+#include "io/source_skins.h"
 #include "io/source_images.h"
 #include "soupuv/errors.h"
 
@@ -70,6 +71,15 @@ void append_attributes(VertexAttributes& out, const detail::PrimitiveGeometry& p
   if (out.texcoords.size() < prim.texcoords.size()) out.texcoords.resize(prim.texcoords.size());
   for (size_t n = 0; n < prim.texcoords.size(); ++n)
     if (!prim.texcoords[n].empty()) put(out.texcoords[n], prim.texcoords[n][v]);
+  if (out.joints.size() < prim.joints.size()) {
+    out.joints.resize(prim.joints.size());
+    out.weights.resize(prim.joints.size());
+  }
+  for (size_t n = 0; n < prim.joints.size(); ++n)
+    if (!prim.joints[n].empty()) {
+      put(out.joints[n], prim.joints[n][v]);
+      put(out.weights[n], prim.weights[n][v]);
+    }
 }
 
 // Every non-empty attribute array as long as the soup's positions; no
@@ -87,6 +97,13 @@ void finish_attributes(VertexAttributes& a, size_t vertices) {
   while (!a.texcoords.empty() && a.texcoords.back().empty()) a.texcoords.pop_back();
   for (auto& uv : a.texcoords)
     if (uv.empty()) uv.resize(vertices, {});
+  // Skin sets likewise: every set up to the last present one, full length.
+  while (!a.joints.empty() && a.joints.back().empty()) {
+    a.joints.pop_back();
+    a.weights.pop_back();
+  }
+  for (auto& j : a.joints) j.resize(vertices, {});
+  for (auto& w : a.weights) w.resize(vertices, {});
 }
 
 // Warnings repeated per primitive (a dropped attribute kind) said once.
@@ -145,7 +162,7 @@ Asset load_gltf_document(json doc, std::span<const uint8_t> bin, bool has_bin, F
   // Real scenes have thousands of nodes, not millions; a node DAG whose paths
   // multiply beyond this is an attack, refused before it costs time.
   constexpr uint64_t kMaxNodeVisits = 1'000'000;
-  asset.instances = detail::flatten_scenes(doc, std::min(kMaxNodeVisits, options.max_triangles), warnings);
+  asset.instances = detail::flatten_scenes(doc, std::min(kMaxNodeVisits, options.max_triangles));
 
   // Each mesh is read once however often it is instanced.
   std::map<int32_t, std::vector<detail::PrimitiveGeometry>> meshes;
@@ -187,6 +204,7 @@ Asset load_gltf_document(json doc, std::span<const uint8_t> bin, bool has_bin, F
   }
   finish_attributes(asset.attributes, asset.soup.positions.size());
   detail::read_base_color_images(doc, buffers, asset, warnings);
+  asset.skins = detail::read_source_skins(doc, buffers, options.max_bytes, warnings);
   dedupe(warnings);
   strip_data_uri_payloads(doc);
   asset.document = std::move(doc);

@@ -5,6 +5,7 @@
 #include "io/accessors.h"
 #include "io/checked_json.h"
 #include "io/draco_decode.h"
+#include "io/skin_attributes.h"
 #include "soupuv/errors.h"
 
 namespace soupuv::io::detail {
@@ -17,14 +18,15 @@ std::string name_of(uint64_t mesh, uint64_t primitive) {
 }
 
 // The attributes the output keeps (NORMAL, COLOR_0, TEXCOORD_n) read into
-// `out`, per source vertex; the others are named in `warnings` as dropped.
+// `out`, per source vertex; the others are named in `warnings` as dropped,
+// except the skinning ones, which read_skin_attributes reads.
 // An attribute whose count differs from POSITION's is dropped (warned).
 void read_kept_attributes(const nlohmann::json& doc, BufferTable& buffers, const nlohmann::json& attributes,
                           size_t vertices, uint64_t max_bytes, const std::string& where, PrimitiveGeometry& out,
                           std::vector<std::string>& warnings) {
   for (auto it = attributes.begin(); it != attributes.end(); ++it) {
     const std::string& name = it.key();
-    if (name == "POSITION") continue;
+    if (name == "POSITION" || is_skin_attribute(name)) continue;  // skinning: skin_attributes.cpp
     if (!it.value().is_number_unsigned()) fail_input(where + ": attribute " + name.substr(0, 40) + " is not an accessor index");
     const uint64_t accessor = it.value().get<uint64_t>();
     int texcoord = -1;
@@ -33,10 +35,9 @@ void read_kept_attributes(const nlohmann::json& doc, BufferTable& buffers, const
     if (name != "NORMAL" && name != "COLOR_0" && texcoord < 0) {
       if (name == "TANGENT")
         warnings.push_back("TANGENT dropped: tangents follow the source UVs, not the new map; recompute them for TEXCOORD_0");
-      else if (name.rfind("JOINTS_", 0) == 0 || name.rfind("WEIGHTS_", 0) == 0)
-        warnings.push_back("skinning attributes (JOINTS_n/WEIGHTS_n) dropped with the skin: the output is the static bind pose");
       else
-        warnings.push_back("vertex attribute " + name.substr(0, 40) + " dropped (soupuv keeps NORMAL, COLOR_0, TEXCOORD_n)");
+        warnings.push_back("vertex attribute " + name.substr(0, 40) +
+                           " dropped (soupuv keeps NORMAL, COLOR_0, TEXCOORD_n, JOINTS_n/WEIGHTS_n)");
       continue;
     }
     uint64_t components = 0;
@@ -183,6 +184,7 @@ PrimitiveGeometry read_primitive(const nlohmann::json& doc, BufferTable& buffers
   } else {
     out.positions = read_positions(doc, buffers, *position_accessor, max_bytes);
     read_kept_attributes(doc, buffers, *attributes, out.positions.size(), max_bytes, where, out, warnings);
+    read_skin_attributes(doc, buffers, *attributes, out.positions.size(), max_bytes, where, out, warnings);
     if (indices_accessor) {
       indices = read_indices(doc, buffers, *indices_accessor, max_bytes);
     } else {
@@ -210,6 +212,8 @@ PrimitiveGeometry read_primitive(const nlohmann::json& doc, BufferTable& buffers
   gather(out.normals, kept);
   gather(out.colors, kept);
   for (auto& uv : out.texcoords) gather(uv, kept);
+  for (auto& j : out.joints) gather(j, kept);
+  for (auto& w : out.weights) gather(w, kept);
   return out;
 }
 

@@ -34,6 +34,8 @@ struct PrimitiveGeometry {
   std::vector<std::array<float, 3>> normals;
   std::vector<std::array<float, 4>> colors;
   std::vector<std::vector<std::array<float, 2>>> texcoords;  // [n][vertex], n < kMaxTexcoords
+  std::vector<std::vector<std::array<uint16_t, 4>>> joints;  // [n][vertex], n < kMaxSkinSets
+  std::vector<std::vector<std::array<float, 4>>> weights;    // [n][vertex], with joints[n]
 };
 
 // Triangles that `index_count` indices make in glTF `mode` (0 for points/lines).

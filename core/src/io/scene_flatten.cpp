@@ -55,13 +55,11 @@ Mat4 node_local_matrix(const nlohmann::json& node, const std::string& where) {
   return m;
 }
 
-std::vector<MeshInstance> flatten_scenes(const nlohmann::json& doc, uint64_t max_instances,
-                                         std::vector<std::string>& warnings) {
+std::vector<MeshInstance> flatten_scenes(const nlohmann::json& doc, uint64_t max_instances) {
   // Every node is parsed once; the walk below may visit it along many paths.
   struct NodeInfo {
     Mat4 local;
     int64_t mesh = -1;
-    bool skinned = false;
     std::vector<uint64_t> children;
   };
   const size_t node_count = array_size(doc, "nodes");
@@ -77,7 +75,6 @@ std::vector<MeshInstance> flatten_scenes(const nlohmann::json& doc, uint64_t max
       if (*mesh > INT32_MAX || n > INT32_MAX) fail_input(where + ": index too large");
       info.mesh = int64_t(*mesh);
     }
-    info.skinned = find_member(node, "skin", where) != nullptr;
     if (const nlohmann::json* c = find_member(node, "children", where)) {
       if (!c->is_array()) fail_input(where + ": children is not an array");
       for (const auto& child : *c) {
@@ -113,7 +110,6 @@ std::vector<MeshInstance> flatten_scenes(const nlohmann::json& doc, uint64_t max
   struct Frame { uint64_t node; Mat4 world; size_t next_child; };
   std::vector<MeshInstance> out;
   std::vector<bool> on_path(node_count, false);
-  bool warned_skin = false;
   uint64_t visits = 0;
   for (uint64_t root : roots) {
     std::vector<Frame> stack;
@@ -126,13 +122,9 @@ std::vector<MeshInstance> flatten_scenes(const nlohmann::json& doc, uint64_t max
       Mat4 world = multiply(parent, info.local);
       for (double v : world)
         if (!std::isfinite(v)) fail_input("node " + std::to_string(n) + ": world transform is not finite");
-      if (info.mesh >= 0) {
-        out.push_back({int32_t(n), int32_t(info.mesh), world});
-        if (info.skinned && !warned_skin) {
-          warnings.push_back("skinned meshes are loaded in their bind pose (skin ignored)");
-          warned_skin = true;
-        }
-      }
+      // A skinned mesh is placed by its node like any other: that is its
+      // bind pose, which the soup is mapped in (the writer keeps the skin).
+      if (info.mesh >= 0) out.push_back({int32_t(n), int32_t(info.mesh), world});
       on_path[n] = true;
       stack.push_back({n, world, 0});
     };

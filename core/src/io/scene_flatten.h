@@ -23,7 +23,6 @@ Mat4 multiply(const Mat4& a, const Mat4& b);
 bool is_identity(const Mat4& m);
 Vec3 transform_point(const Mat4& m, Vec3 p);
 
-std::vector<MeshInstance> flatten_scenes(const nlohmann::json& doc, uint64_t max_instances,
-                                         std::vector<std::string>& warnings);
+std::vector<MeshInstance> flatten_scenes(const nlohmann::json& doc, uint64_t max_instances);
 
 }  // namespace soupuv::io::detail

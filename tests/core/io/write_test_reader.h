@@ -52,7 +52,8 @@ struct Glb {
   std::vector<float> floats(int a) const {
     const auto& acc = doc["accessors"][a];
     if (acc["componentType"] != 5126) throw std::runtime_error("not a float accessor");
-    size_t comps = acc["type"] == "VEC3" ? 3 : acc["type"] == "VEC2" ? 2 : 1;
+    const std::string type = acc["type"];
+    size_t comps = type == "MAT4" ? 16 : type == "VEC4" ? 4 : type == "VEC3" ? 3 : type == "VEC2" ? 2 : 1;
     size_t count = acc["count"];
     std::vector<uint8_t> bytes = view(acc["bufferView"]);
     size_t offset = acc.value("byteOffset", 0);

@@ -38,11 +38,27 @@ struct VertexAttributes {
   static constexpr uint32_t kNormal = 1u, kColor = 2u;
   static constexpr uint32_t texcoord_bit(int n) { return 4u << n; }
   static constexpr int kMaxTexcoords = 8;
+  // JOINTS_n and WEIGHTS_n travel as a pair (one is meaningless without the
+  // other), so one bit says both are present.
+  static constexpr uint32_t skin_bit(int n) { return 1u << (16 + n); }
+  static constexpr int kMaxSkinSets = 4;
   std::vector<uint32_t> present;                       // bit mask per soup vertex
   std::vector<std::array<float, 3>> normals;           // NORMAL
   std::vector<std::array<float, 4>> colors;            // COLOR_0 as RGBA (alpha 1 when VEC3)
   std::vector<std::vector<std::array<float, 2>>> texcoords;  // [n][vertex]: TEXCOORD_n
-  bool empty() const { return normals.empty() && colors.empty() && texcoords.empty(); }
+  std::vector<std::vector<std::array<uint16_t, 4>>> joints;  // [n][vertex]: JOINTS_n (skin joint indices)
+  std::vector<std::vector<std::array<float, 4>>> weights;    // [n][vertex]: WEIGHTS_n, as decoded
+  bool empty() const { return normals.empty() && colors.empty() && texcoords.empty() && joints.empty(); }
+};
+
+// What the writer needs of a source skin besides its JSON (joints, skeleton,
+// name stay in Asset::document): the inverse bind matrices, which live in a
+// buffer the writer no longer has.
+struct SourceSkin {
+  bool readable = true;  // false: its inverseBindMatrices could not be read (warned)
+  // 16 floats per joint, column-major as stored; empty when the source has
+  // none (glTF then means identity matrices, and so does the output).
+  std::vector<float> inverse_bind_matrices;
 };
 
 // A material's base-colour texture image as the source holds it (encoded
@@ -84,6 +100,7 @@ struct Asset {
   std::vector<MeshInstance> instances;
 
   VertexAttributes attributes;
+  std::vector<SourceSkin> skins;  // parallel to document["skins"]
   // Base-colour images by material index (materials whose image could be read).
   std::map<int32_t, SourceImage> base_color_images;
 };

@@ -18,14 +18,24 @@
 //    map) is float32;
 //  - vertex attributes kept from the source (Asset::attributes): NORMAL
 //    (normalized; flat when options.normals), COLOR_0 (as float RGBA, unless
-//    !keep_colors), and every TEXCOORD_n moved to TEXCOORD_n+1; the loader
-//    warns about the ones it dropped (TANGENT, JOINTS/WEIGHTS, others);
+//    !keep_colors), every TEXCOORD_n moved to TEXCOORD_n+1, and JOINTS_n /
+//    WEIGHTS_n with their values as read (joints UNSIGNED_BYTE when they fit,
+//    else UNSIGNED_SHORT; weights float), except that a vertex whose weights
+//    do not sum to 1 gets them normalized (glTF requires it, the validator
+//    refuses it, renderers normalize on loading; counted in a warning); the
+//    loader warns about the ones it dropped (TANGENT, others);
+//  - skins are kept (Asset::skins holds their inverse bind matrices): joints
+//    and skeleton re-numbered to the output nodes, and the skin on the node of
+//    each output mesh made from a skinned node. A skin whose joint or skeleton
+//    is not exactly one output node (a node with several parents is copied per
+//    path; a node in no scene is left out) is dropped with its meshes'
+//    JOINTS_n/WEIGHTS_n and a warning naming the node;
 //  - materials keep name, factors, alphaMode, alphaCutoff, doubleSided,
 //    emissiveFactor; baseColorTexture becomes our texture on TEXCOORD_0; other
 //    textures (they referred to the old UVs) and material extensions are dropped
 //    with a warning; NORMAL only when asked (flat, per triangle);
-//  - skins, animations and morph targets are dropped with a warning: the
-//    output is the static bind pose;
+//  - animations and morph targets are dropped with a warning: the output is
+//    the static bind pose;
 //  - the texture image lives in the BIN chunk (bufferView + mimeType);
 //  - with options.draco each primitive is KHR_draco_mesh_compression-encoded
 //    (required extension); its accessors keep counts and POSITION min/max.
