@@ -120,7 +120,7 @@ void trace_shared(const Soup& soup, const field::ChargeResult& charges,
                   Progress& progress, FieldBranchResult& r) {
   const quality::Weld weld =
       options.seed_edge_weld_tolerance > 0
-          ? quality::extend_weld(soup, quality::weld_by_edges(soup, options.seed_edge_weld_tolerance),
+          ? quality::extend_weld(soup, quality::weld_by_edges(soup, options.seed_edge_weld_tolerance, 1.0, false),
                                  options.weld_tolerance,
                                  options.seed_edge_fraction > 0 ? options.seed_edge_fraction
                                                                 : options.weld_edge_fraction)

@@ -324,11 +324,11 @@ MapResult run_map(const Soup& soup, const MapOptions& options, Progress& progres
     weld = pipeline::cached_weld(
         options.cache, hash,
         options.weld_by_edges
-            ? pipeline::weld_recipe("edges", {options.edge_weld_tolerance * diag, 1.0})
+            ? pipeline::weld_recipe("edges-consistent", {options.edge_weld_tolerance * diag, 1.0})
             : pipeline::weld_recipe("corners", {options.weld_tolerance * diag, options.weld_edge_fraction}),
         [&] {
           return options.weld_by_edges
-                     ? quality::weld_by_edges(soup, options.edge_weld_tolerance * diag)
+                     ? quality::weld_by_edges(soup, options.edge_weld_tolerance * diag, 1.0, false)
                      : quality::weld_corners(soup, options.weld_tolerance * diag, options.weld_edge_fraction);
         },
         weld_cached);

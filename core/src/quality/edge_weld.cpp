@@ -41,7 +41,7 @@ struct EdgeMatch {
 
 }  // namespace
 
-Weld weld_by_edges(const Soup& soup, double tolerance, double ambiguity_ratio) {
+Weld weld_by_edges(const Soup& soup, double tolerance, double ambiguity_ratio, bool flipped_neighbours) {
   constexpr double kNone = std::numeric_limits<double>::infinity();
   const size_t corners = soup.triangles.size() * 3;
   Weld w;
@@ -87,7 +87,7 @@ Weld weld_by_edges(const Soup& soup, double tolerance, double ambiguity_ratio) {
         const double back = norm2(pos(next(c)) - p);
         if (back <= tol2 && e < c && !overlaps(e, c)) f(EdgeMatch{dq + back, e, c, false});
         const double forward = norm2(pos(prev(c)) - p);
-        if (forward <= tol2 && e < prev(c) && !overlaps(e, prev(c))) f(EdgeMatch{dq + forward, e, prev(c), true});
+        if (flipped_neighbours && forward <= tol2 && e < prev(c) && !overlaps(e, prev(c))) f(EdgeMatch{dq + forward, e, prev(c), true});
       });
     }
   };

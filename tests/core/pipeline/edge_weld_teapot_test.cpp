@@ -46,6 +46,12 @@ TEST(EdgeWeld, TeapotRimHasFewerFalseNeighboursThanCornerWelding) {
   const Weld strict = weld_by_edges(soup.soup, 4e-3 * diag, 2.0);
   EXPECT_LT(false_pairs(strict), 30u);
   EXPECT_GT(missed_pairs(strict), missed_pairs(edges));
+  // Matching only neighbours that run back (the soup's winding is
+  // consistent) joins fewer wrong pairs without missing more right ones
+  // (measured: false 134 -> 113, missed 203 -> 169).
+  const Weld consistent = weld_by_edges(soup.soup, 4e-3 * diag, 1.0, false);
+  EXPECT_LT(false_pairs(consistent), false_pairs(edges));
+  EXPECT_LE(missed_pairs(consistent), missed_pairs(edges));
 }
 
 // The shared lines' seed weld (field_branch.h): edges first, then distance on

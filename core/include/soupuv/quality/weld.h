@@ -40,7 +40,16 @@ Weld weld_corners(const Soup& soup, double tolerance, double edge_fraction = 0);
 // within ambiguity_ratio x the closest's cost (1 = off; 2 on the teapot: 10
 // false pairs but 837 missed). Corners that share no edge with another
 // triangle stay unwelded.
-Weld weld_by_edges(const Soup& soup, double tolerance, double ambiguity_ratio = 1);
+// flipped_neighbours = false matches only edges that run back (consistent
+// winding): where the noise reaches the shortest edges a sliver's long edge
+// lies near both long edges of its neighbour's side, and a match with the
+// one running the same way joins a corner to the wrong vertex; a layout
+// built from such a weld has no flat map there (docs/tuning.md, "The edge
+// weld's winding"). The pipeline welds this way for the UV stage and the
+// field's shared seeds; extend_weld still joins a flipped part's copies by
+// distance.
+Weld weld_by_edges(const Soup& soup, double tolerance, double ambiguity_ratio = 1,
+                   bool flipped_neighbours = true);
 
 // weld_corners, but starting from the groups of `start` (a weld of the same
 // soup, e.g. weld_by_edges): its groups stay joined, and further corners join
