@@ -41,6 +41,17 @@ quality::Weld soup_weld(const Soup& soup, const MapOptions& options) {
   return quality::weld_corners(soup, options.weld_tolerance * diag, options.weld_edge_fraction);
 }
 
+// The atlas options a run uses. With the soup UV solve on, the proxy
+// atlas's layout is not the output's (the solve packs the soup's islands
+// itself): the column packer alone lays the charts out, without the bitmap
+// packer's turns and scale search, which were most of the atlas's time
+// (docs/tuning.md, "The proxy atlas's packing").
+atlas::AtlasOptions atlas_for_run(const atlas::AtlasOptions& atlas, const MapOptions& options) {
+  atlas::AtlasOptions a = atlas;
+  if (options.soup_uv_solve) a.pack_angles = 0;
+  return a;
+}
+
 // The metric's weld: the original's own vertices, else soup_weld.
 quality::Weld metric_weld(const Soup& soup, const MapOptions& options) {
   if (options.original) return quality::weld_corners(*options.original, 0.0);
@@ -187,7 +198,7 @@ nlohmann::json search_candidates(const Soup& soup, const pipeline::FieldBranchRe
     const MapCandidate& c = options.candidates[i];
     // The caller's seam hints hold for every candidate (a candidate chosen
     // without them would silently drop them).
-    atlas::AtlasOptions candidate_atlas = c.atlas;
+    atlas::AtlasOptions candidate_atlas = atlas_for_run(c.atlas, options);
     candidate_atlas.seam_hints = options.atlas.seam_hints;
     auto t_candidate = Clock::now();
     pipeline::ProxyBranch b;
@@ -300,7 +311,7 @@ MapResult run_map(const Soup& soup, const MapOptions& options, Progress& progres
   pipeline::ProxyBranch pb;
   std::exception_ptr proxy_error;
   try {
-    pb = pipeline::run_proxy_branch(soup, options.proxy, options.atlas,
+    pb = pipeline::run_proxy_branch(soup, options.proxy, atlas_for_run(options.atlas, options),
                                     options.relax_max_soup_per_proxy_face, proxy_threads, proxy_progress);
   } catch (...) {
     proxy_error = std::current_exception();
