@@ -8,6 +8,7 @@
 #include <iostream>
 #include <string>
 
+#include "soupuv/openmp_wait.h"
 #include "bench_registry.h"
 
 namespace soupuv::bench {
@@ -45,6 +46,7 @@ double loglog_slope(const std::vector<double>& x, const std::vector<double>& y) 
 }  // namespace soupuv::bench
 
 int main(int argc, char** argv) {
+  soupuv::exec_with_sleeping_openmp_waiters(argv);
   using namespace soupuv::bench;
   auto usage = [] {
     std::cerr << "usage: soupuv-bench SUITE [--quick] [flags]\nsuites:\n";

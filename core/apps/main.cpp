@@ -10,6 +10,7 @@
 #include <CLI/CLI.hpp>
 #include <nlohmann/json.hpp>
 
+#include "soupuv/openmp_wait.h"
 #include "cli.h"
 #include "map_flags.h"
 
@@ -117,6 +118,7 @@ int run(int argc, char** argv) {
 }  // namespace
 
 int main(int argc, char** argv) {
+  soupuv::exec_with_sleeping_openmp_waiters(argv);
   try {
     return run(argc, argv);
   } catch (const UsageError& e) {

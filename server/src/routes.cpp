@@ -11,6 +11,7 @@
 #include <set>
 
 #include "soupuv/hash.h"
+#include "soupuv/openmp_wait.h"
 #include "soupuv/server/app.h"
 #include "soupuv/server/http_guards.h"
 #include "soupuv/server/http_server.h"
@@ -213,7 +214,7 @@ std::optional<Rejection> inspect_upload(ServerContext& ctx, const fs::path& file
   std::string reason;
   std::atomic<bool> never{false};
   auto outcome = run_process({ctx.worker_bin, "inspect", file.string()},
-                             worker_environment(file.parent_path().string(), ctx.config.worker_env, {"OMP_NUM_THREADS=1"}),
+                             worker_environment(file.parent_path().string(), ctx.config.worker_env, {"OMP_NUM_THREADS=1", std::string("OMP_WAIT_POLICY=") + kOpenMpWaitPolicy}),
                              limits, never, [&](const std::string& line) {
                                if (line.rfind("soupuv: ", 0) == 0) reason = line.substr(8, 500);
                              });

@@ -8,6 +8,7 @@
 #include <cmath>
 #include <filesystem>
 
+#include "soupuv/openmp_wait.h"
 #include "soupuv/server/log.h"
 #include "soupuv/server/result_blobs.h"
 #include "soupuv/server/sandbox.h"
@@ -664,7 +665,8 @@ Scheduler::Attempt Scheduler::attempt(const Job& job, int attempt_no, std::atomi
   bool confined = confine_worker(config_, paths, work.string(), limits, sandbox_error);
   RulesetCloser closer{limits.landlock_ruleset};
   const std::vector<std::string> env = worker_environment(
-      work.string(), config_.worker_env, {"OMP_NUM_THREADS=" + std::to_string(config_.threads_per_job())});
+      work.string(), config_.worker_env, {"OMP_NUM_THREADS=" + std::to_string(config_.threads_per_job()),
+       std::string("OMP_WAIT_POLICY=") + kOpenMpWaitPolicy});
 
   std::string stage, last_reason;
   double stage_started = now_seconds(), last_write = 0;
