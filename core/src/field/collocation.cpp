@@ -12,6 +12,20 @@
 
 namespace soupuv::field {
 
+// LU of a preconditioner block. Coplanar, overlapping triangles (exact CAD
+// exports: bracket-exact of the corpus) give near-equal rows and columns;
+// their exactly singular block made the preconditioner return inf and the
+// Krylov solve a non-finite total charge. A block that is singular to
+// working precision is factored with its diagonal raised by 1e-6 of its
+// largest entry: it only preconditions, the outer iteration still solves
+// the exact system.
+Eigen::PartialPivLU<Eigen::MatrixXd> factor_regularised(Eigen::MatrixXd block) {
+  Eigen::PartialPivLU<Eigen::MatrixXd> lu(block);
+  if (lu.rcond() > 1e-12) return lu;
+  block.diagonal().array() += 1e-6 * block.cwiseAbs().maxCoeff();
+  return Eigen::PartialPivLU<Eigen::MatrixXd>(block);
+}
+
 namespace {
 // inv[t] = 1 / |x - p_t|: the bulk of the near matrix (pairs beyond the
 // closed-form radius use the plain quadrature rule). A flat loop the compiler
@@ -203,7 +217,7 @@ LeafBlockPreconditioner::LeafBlockPreconditioner(const CollocationOperator& op,
         for (uint32_t j : idx) mark[j] = -1;
         overlap += idx.size() - own_[b];
       }
-      lu_[b] = Eigen::PartialPivLU<Eigen::MatrixXd>(op.block(idx, mark));
+      lu_[b] = factor_regularised(op.block(idx, mark));
     }
   }
   overlap_ = overlap;
