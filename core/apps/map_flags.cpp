@@ -196,6 +196,10 @@ std::vector<MapFlag> make_table() {
       val("--uv-collapse-ratio", "F", number_in(0, 1, false, true), kSolve,
           "the UV solve cuts triangles whose UV area is below F x their rest area after untangling (0.05)",
           [](MapArgs& m, const std::string& v) { opt(m).uv_solve.collapse_ratio = num(v); }),
+      val("--uv-reembed-max-stretch", "F", number_in(1, 10), kSolve,
+          "a piece flattened again from its own shape, or a union of islands, is split or refused above this L2 "
+          "stretch (1.25)",
+          [](MapArgs& m, const std::string& v) { opt(m).uv_solve.reembed_max_stretch = num(v); }),
       val("--uv-untangle-iterations", "N", whole_number_in(0, 1000), kSolve,
           "ARAP iterations on folded islands (8)",
           [](MapArgs& m, const std::string& v) { opt(m).uv_solve.untangle_iterations = whole(v); }),

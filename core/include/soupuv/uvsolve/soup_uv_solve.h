@@ -63,7 +63,7 @@ struct SoupUvOptions {
   // (union_merge.h); a piece or union above this L2 stretch is split or
   // refused. Off: the step list without them (for comparison).
   bool reembed = true;
-  double reembed_max_stretch = 1.15;
+  double reembed_max_stretch = 1.25;
   int threads = 1;
 };
 
