@@ -80,44 +80,62 @@ struct Variant {
   double gap_res = 0, gap_min = 0, gap_margin = 0;  // 0: the proxy's defaults
 };
 
-// "NAME:K=V,K=V" -> a variant of the pipeline's atlas: the keys of
-// parse_map_candidate (pipeline.h), plus proxy_edge, which only the bench has.
+// One "K=V" of a variant spec into the atlas options or the proxy offset;
+// false for a key it does not know.
+bool apply_atlas_key(const std::string& key, double value, Variant& v) {
+  atlas::AtlasOptions& a = v.atlas;
+  if (key == "angle") a.max_normal_deviation_deg = value;
+  else if (key == "alt_angle") a.alternative_normal_deviations_deg.push_back(value);
+  else if (key == "no_alt_angles") a.alternative_normal_deviations_deg.clear();
+  else if (key == "stretch") a.max_stretch = value;
+  else if (key == "merge") a.merge_charts = value != 0;
+  else if (key == "merge_crease") a.merge_crease_deg = value;
+  else if (key == "merge_cone") a.merge_max_normal_deviation_deg = value;
+  else if (key == "merge_area") a.merge_max_area_fraction = value;
+  else if (key == "merge_fill") a.merge_min_fill = value;
+  else if (key == "merge_stretch") a.merge_max_stretch = value;
+  else if (key == "merge_sweeps") a.merge_stretch_sweeps = int(value);
+  else if (key == "pack_splits") a.packing_split_rounds = int(value);
+  else if (key == "split_below") a.packing_split_below = value;
+  else if (key == "relax") a.relax_seams = value != 0;
+  else if (key == "relax_band") a.relax_band = value;
+  else if (key == "relax_stretch") a.relax_max_stretch_increase = value;
+  else if (key == "relax_narrow") a.relax_narrowings = int(value);
+  else if (key == "soup_weights") a.soup_seam_weights = value != 0;
+  else if (key == "offset") v.offset = value;
+  else if (key == "proxy_edge") v.proxy_edge = value;
+  else if (key == "gaps") v.gaps = value != 0;
+  else if (key == "gap_res") v.gap_res = value;
+  else if (key == "gap_min") v.gap_min = value;
+  else if (key == "gap_margin") v.gap_margin = value;
+  else return false;
+  return true;
+}
+
+// "NAME:K=V,K=V" -> a variant of the pipeline's atlas (the keys above).
+// Throws Error{invalid_input} on a missing name, an unknown key or a value
+// that is not a number.
 Variant parse_variant(const std::string& text) {
-  std::string spec = text.substr(0, text.find(':'));
   Variant v;
-  if (text.find(':') != std::string::npos) {
-    std::stringstream list(text.substr(text.find(':') + 1));
-    std::string item;
-    char sep = ':';
-    while (std::getline(list, item, ',')) {
-      if (item.rfind("proxy_edge=", 0) == 0) {
-        v.proxy_edge = std::stod(item.substr(11));
-        continue;
-      }
-      if (item.rfind("gaps=", 0) == 0) {
-        v.gaps = std::stod(item.substr(5)) != 0;
-        continue;
-      }
-      if (item.rfind("gap_res=", 0) == 0) {
-        v.gap_res = std::stod(item.substr(8));
-        continue;
-      }
-      if (item.rfind("gap_min=", 0) == 0) {
-        v.gap_min = std::stod(item.substr(8));
-        continue;
-      }
-      if (item.rfind("gap_margin=", 0) == 0) {
-        v.gap_margin = std::stod(item.substr(11));
-        continue;
-      }
-      spec += sep + item;
-      sep = ',';
+  const size_t colon = text.find(':');
+  v.name = text.substr(0, colon);
+  if (v.name.empty()) throw Error(ErrorCode::invalid_input, "a variant needs a name: " + text);
+  if (colon == std::string::npos) return v;
+  std::stringstream list(text.substr(colon + 1));
+  for (std::string item; std::getline(list, item, ',');) {
+    const size_t eq = item.find('=');
+    if (eq == std::string::npos) throw Error(ErrorCode::invalid_input, "variant item without '=': " + item);
+    double value = 0;
+    try {
+      size_t used = 0;
+      value = std::stod(item.substr(eq + 1), &used);
+      if (used != item.size() - eq - 1) throw std::invalid_argument("trailing text");
+    } catch (const std::exception&) {
+      throw Error(ErrorCode::invalid_input, "variant item needs a number: " + item);
     }
+    if (!apply_atlas_key(item.substr(0, eq), value, v))
+      throw Error(ErrorCode::invalid_input, "unknown variant key: " + item.substr(0, eq));
   }
-  const MapCandidate c = parse_map_candidate(spec);
-  v.name = c.name;
-  v.atlas = c.atlas;
-  v.offset = c.proxy_offset_fraction;
   return v;
 }
 
@@ -243,7 +261,6 @@ int run_atlas_pipeline(const bench::Args& args) {
       std::cerr << "atlas-pipeline: " << s.name << " / " << variants[v].name << "\n";
       MapOptions o;
       o.atlas = variants[v].atlas;
-      o.candidates.clear();  // the variant alone, not the pipeline's candidate search
       o.cache = &store;
       o.original = s.noisy_soup ? &original : nullptr;
       o.keep_debug = charts;
@@ -302,9 +319,6 @@ int run_atlas_pipeline(const bench::Args& args) {
                             {"cpu_seconds", cpu_seconds() - c0},
                             {"field_cached", d["cache"]["hits"].get<double>() > 0}};
       row["causes"] = uv["causes"];
-      if (d.contains("uv_repair") && d["uv_repair"].value("enabled", false))
-        row["before_repair"] = d["uv_repair"]["before"];
-      if (d.contains("island_relax")) row["island_relax"] = d["island_relax"];
       bench::emit(row);
       if (charts) {
         bench::emit({{"suite", "atlas-pipeline"}, {"kind", "stretch_tail"}, {"mesh", s.name},

@@ -12,7 +12,6 @@ nlohmann::json DiscontinuityBreakdown::to_json() const {
           {"split_charts", split},
           {"chart_correction", corrected},
           {"diverged", diverged},
-          {"diverged_by_repair", diverged_by_repair},
           {"diverged_apart_lines", diverged_apart_lines},
           {"diverged_one_line", diverged_one_line},
           {"flipped", flipped},
@@ -42,9 +41,8 @@ DiscontinuityBreakdown discontinuity_breakdown(const Soup& soup, const CornerUvs
   b.pairs = adjacency.size();
   const double texel = 1.0 / texture_size;
   const bool know_lines = landing.line.size() == 3 * uvs.size();
-  const bool know_before = landing.before_repair.size() == uvs.size();
   for (const AdjacentPair& p : adjacency) {
-    bool apart = false, apart_before = false, missed = false, split = false, corrected = false,
+    bool apart = false, missed = false, split = false, corrected = false,
          two_lines = false;
     for (int i = 0; i < 2; ++i) {
       const size_t ca = 3 * size_t(p.a) + p.a_corner[i], cb = 3 * size_t(p.b) + p.b_corner[i];
@@ -54,7 +52,6 @@ DiscontinuityBreakdown discontinuity_breakdown(const Soup& soup, const CornerUvs
         return !(norm(u[p.a][p.a_corner[i]] - u[p.b][p.b_corner[i]]) <= texel + 2 * d_3d * uv_per_length);
       };
       apart |= cut(uvs);
-      if (know_before) apart_before |= cut(landing.before_repair);
       missed |= landing.missed[ca] || landing.missed[cb];
       split |= landing.first_chart[ca] != landing.first_chart[cb];
       corrected |= landing.final_chart[ca] != landing.first_chart[ca] ||
@@ -68,8 +65,7 @@ DiscontinuityBreakdown discontinuity_breakdown(const Soup& soup, const CornerUvs
     else if (corrected) ++b.corrected;
     else {
       ++b.diverged;
-      if (know_before && !apart_before) ++b.diverged_by_repair;
-      else if (two_lines) ++b.diverged_apart_lines;
+      if (two_lines) ++b.diverged_apart_lines;
       else if (know_lines) ++b.diverged_one_line;
     }
   }

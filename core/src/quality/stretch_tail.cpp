@@ -65,7 +65,6 @@ StretchTail stretch_tail(const Soup& soup, const CornerUvs& uvs, const CornerLan
     tri.area_ratio = sign * auv / (a3 * scale * scale);
     tri.flipped = tri.area_ratio < 0;
     tri.aspect_3d = triangle_aspect(soup.corner(t, 0), soup.corner(t, 1), soup.corner(t, 2));
-    tri.repaired = flag(flags.repaired, t);
     bool missed = false, split = false, corrected = false;
     for (int k = 0; k < 3; ++k) {
       const size_t c = 3 * t + k;
@@ -85,7 +84,6 @@ StretchTail stretch_tail(const Soup& soup, const CornerUvs& uvs, const CornerLan
     tri.cls = kClasses[cls];
     ++tail.class_count[cls];
     tail.class_share[cls] += tri.share;
-    tail.repaired += tri.repaired;
     ++tail.listed;
     tail.listed_share += tri.share;
     if (tail.worst.size() < options.max_detailed) tail.worst.push_back(tri);
@@ -101,8 +99,8 @@ nlohmann::json StretchTail::to_json() const {
   for (const TailTriangle& t : worst)
     list.push_back({{"triangle", t.triangle}, {"class", t.cls}, {"share", t.share},
                     {"stretch", t.stretch}, {"area_ratio", t.area_ratio},
-                    {"aspect_3d", t.aspect_3d}, {"repaired", t.repaired}, {"flipped", t.flipped}});
-  return {{"listed", listed}, {"listed_share", listed_share}, {"repaired", repaired},
+                    {"aspect_3d", t.aspect_3d}, {"flipped", t.flipped}});
+  return {{"listed", listed}, {"listed_share", listed_share},
           {"by_class", by_class}, {"worst", list}};
 }
 

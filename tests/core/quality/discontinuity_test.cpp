@@ -64,7 +64,7 @@ TEST(Discontinuity, EveryCutPairGetsOneCause) {
 }
 
 // Diverged pairs once more by why, when the landing knows each corner's line
-// and the UVs before the repair.
+// (soup copies that started apart, or one line whose copies moved apart).
 TEST(Discontinuity, DivergedPairsSayWhy) {
   Soup s = strip();
   const size_t n = s.triangles.size();
@@ -81,19 +81,16 @@ TEST(Discontinuity, DivergedPairsSayWhy) {
   for (int k = 0; k < 3; ++k) land.line[3 + k] = 100 + k;  // ... but triangle 1 has its own
   for (int k = 0; k < 3; ++k) uv[1][k].y += 0.3;  // its lines went elsewhere: pair (0,1)
   for (int k = 0; k < 3; ++k) uv[7][k].y += 0.3;  // one line, apart anyway: (4,7), (6,7)
-  land.before_repair = uv;
-  for (int k = 0; k < 3; ++k) uv[5][k].x += 0.3;  // the repair moved it: (2,5), (4,5)
+  for (int k = 0; k < 3; ++k) uv[5][k].x += 0.3;  // moved after landing: (2,5), (4,5)
   DiscontinuityBreakdown b = discontinuity_breakdown(s, uv, pairs, land, 1024, 0.1);
   EXPECT_EQ(b.diverged, 5u);
   EXPECT_EQ(b.diverged_apart_lines, 1u);
-  EXPECT_EQ(b.diverged_by_repair, 2u);
-  EXPECT_EQ(b.diverged_one_line, 2u);
+  EXPECT_EQ(b.diverged_one_line, 4u);
   // Without the optional data the split is not made.
   land.line.clear();
-  land.before_repair.clear();
   b = discontinuity_breakdown(s, uv, pairs, land, 1024, 0.1);
   EXPECT_EQ(b.diverged, 5u);
-  EXPECT_EQ(b.diverged_apart_lines + b.diverged_by_repair + b.diverged_one_line, 0u);
+  EXPECT_EQ(b.diverged_apart_lines + b.diverged_one_line, 0u);
 }
 
 // A UV sliver carries the squared L2 stretch sum; the worst-1 % breakdown puts
