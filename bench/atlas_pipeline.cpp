@@ -23,10 +23,7 @@
 //                        offset (proxy offset, fraction of the diagonal;
 //                        default: auto), proxy_edge (proxy remeshing edge
 //                        length, fraction of the diagonal; default: the
-//                        offset), gaps (0/1: the proxy keeps gaps
-//                        between far-apart parts, gap_offsets.h) with
-//                        gap_res, gap_min, gap_margin (its grid factor,
-//                        smallest offset and slit margin in cells).
+//                        offset).
 //   --quick              suzanne and Fox, the pipeline's atlas only.
 //   --dump-uvs DIR       also write DIR/MESH-VARIANT.uv.txt: per soup triangle
 //                        its corners' x y z u v (to draw the seams).
@@ -76,8 +73,6 @@ struct Variant {
   atlas::AtlasOptions atlas = map_atlas_defaults();
   double offset = 0;      // 0: the pipeline's automatic offset
   double proxy_edge = 0;  // 0: the proxy's own choice (the offset)
-  bool gaps = false;      // proxy keep_gaps (gap_offsets.h)
-  double gap_res = 0, gap_min = 0, gap_margin = 0;  // 0: the proxy's defaults
 };
 
 // One "K=V" of a variant spec into the atlas options or the proxy offset;
@@ -104,10 +99,6 @@ bool apply_atlas_key(const std::string& key, double value, Variant& v) {
   else if (key == "soup_weights") a.soup_seam_weights = value != 0;
   else if (key == "offset") v.offset = value;
   else if (key == "proxy_edge") v.proxy_edge = value;
-  else if (key == "gaps") v.gaps = value != 0;
-  else if (key == "gap_res") v.gap_res = value;
-  else if (key == "gap_min") v.gap_min = value;
-  else if (key == "gap_margin") v.gap_margin = value;
   else return false;
   return true;
 }
@@ -268,10 +259,6 @@ int run_atlas_pipeline(const bench::Args& args) {
         o.proxy.offset_mode = proxy::OffsetMode::relative;
         o.proxy.offset = variants[v].offset;
       }
-      o.proxy.keep_gaps = variants[v].gaps;
-      if (variants[v].gap_res > 0) o.proxy.gap_resolution_factor = variants[v].gap_res;
-      if (variants[v].gap_min > 0) o.proxy.gap_min_offset_cells = variants[v].gap_min;
-      if (variants[v].gap_margin > 0) o.proxy.gap_margin_cells = variants[v].gap_margin;
       if (variants[v].proxy_edge > 0) {
         o.proxy.target_edge_length = variants[v].proxy_edge * bounding_box(soup).diagonal();
       }
@@ -297,12 +284,10 @@ int run_atlas_pipeline(const bench::Args& args) {
                             {"pairs", uv["causes"]["pairs"]},
                             {"from_chart_seams", uv["causes"]["chart_correction"]},
                             {"proxy_triangles", d["proxy"]["triangles"]},
-                            {"proxy_gap_narrowed", d["proxy"].value("gap_narrowed_triangles", 0)},
                             {"proxy_min_distance_ratio", d["proxy"]["min_distance_ratio"]},
                             {"proxy_resolution", d["proxy"]["resolution"]},
                             {"proxy_genus", d["proxy"]["genus"]},
                             {"proxy_seconds", d["proxy"]["seconds"]},
-                            {"proxy_seconds_gaps", d["proxy"].value("seconds_gaps", 0.0)},
                             {"proxy_offset_fraction", d["proxy"]["offset_fraction"]},
                             {"charts", a["charts"]},
                             {"utilization", a["utilization"]},

@@ -78,11 +78,6 @@ struct MapOptions {
   // (only original corners are traced; the writer keeps the original
   // triangles).
   bool refine_intersections = true;
-  // Experimental, off: also trace probe points inside the kept piece of each
-  // cut triangle and extrapolate its other corners' UVs from them
-  // (transfer/intersect.h). On the Fig. 19 planes it made the cut triangles
-  // worse (worst UV/3D edge ratio 25 against 2.2 without), so it stays off.
-  bool cut_probe_extrapolation = false;
   // §12.4: one traced side per welded component (transfer/orient.h).
   bool orient_sides = true;
   // Copies of one welded position share one field line (start at their mean,

@@ -11,7 +11,7 @@
 
 namespace soupuv::pipeline {
 
-inline constexpr const char* kFieldCacheVersion = "field-cache-7";  // 7: option parts as raw bytes
+inline constexpr const char* kFieldCacheVersion = "field-cache-8";  // 8: no cut-probe switch; 7: option parts as raw bytes
 
 cache::Bytes encode(const field::ChargeResult& charges);
 field::ChargeResult decode_charges(std::span<const uint8_t> bytes);

@@ -101,13 +101,10 @@ nlohmann::json cache_json(cache::Store* store, size_t hits, size_t misses) {
 }
 
 // Per-triangle flags for the stretch tail's classes (quality/stretch_tail.h).
-quality::TailFlags tail_flags(const Soup& soup, const pipeline::FieldBranchResult& field,
-                              const quality::Weld& weld, const quality::CornerLanding& landed) {
+quality::TailFlags tail_flags(const Soup& soup, const quality::Weld& weld,
+                              const quality::CornerLanding& landed) {
   const size_t n = soup.triangles.size();
   quality::TailFlags f;
-  f.cut.assign(n, 0);
-  for (const auto& p : field.probes)
-    if (p.corner_off[0] || p.corner_off[1] || p.corner_off[2]) f.cut[p.triangle] = 1;
   if (weld.corner_vertex.size() == 3 * n) {
     // A welded vertex used on two charts lies on a seam or an open chart border.
     std::vector<int> chart_of(weld.vertex_count, -1);
@@ -174,7 +171,6 @@ MapResult run_map(const Soup& soup, const MapOptions& options, Progress& progres
   fo.charge = options.charge;
   fo.trace = options.trace;
   fo.refine_intersections = options.refine_intersections;
-  fo.trace_cut_probes = options.refine_intersections && options.cut_probe_extrapolation;
   fo.orient_sides = options.orient_sides;
   fo.share_lines = options.share_lines;
   fo.weld_tolerance = options.weld_tolerance * diag;
@@ -261,7 +257,7 @@ MapResult run_map(const Soup& soup, const MapOptions& options, Progress& progres
   const quality::DiscontinuityBreakdown causes = quality::discontinuity_breakdown(
       soup, tr.corner_uvs, adjacency, landed, options.metrics_texture_size, m.uv_per_length);
   const quality::StretchTail tail = quality::stretch_tail(
-      soup, tr.corner_uvs, landed, tail_flags(soup, field, weld, landed));
+      soup, tr.corner_uvs, landed, tail_flags(soup, weld, landed));
 
   MapResult r;
   r.corner_uvs.reserve(3 * soup.triangles.size());
@@ -303,10 +299,8 @@ MapResult run_map(const Soup& soup, const MapOptions& options, Progress& progres
   d["trace"]["untraced_corners"] = tr.untraced_corners;
   d["orient"] = field.orient;
   d["intersections"] = field.intersections;
-  d["intersections"]["corrected_triangles"] = uv.cut_corrected;
   d["transfer"] = {{"multi_chart_triangles", tr.multi_chart_triangles},
-                   {"corrected_triangles", tr.corrected_triangles},
-                   {"cut_triangles_corrected", uv.cut_corrected}};
+                   {"corrected_triangles", tr.corrected_triangles}};
   d["uv"] = uv_json(m, soup, options);
   d["uv"]["causes"] = causes.to_json();
   d["uv"]["stretch_tail"] = tail.to_json();

@@ -2,8 +2,6 @@
 
 #include <chrono>
 
-#include "soupuv/transfer/intersect.h"
-
 namespace soupuv::pipeline {
 
 namespace {
@@ -27,18 +25,6 @@ UvStage run_uv_stage(const Soup& soup, const FieldBranchResult& field, const Pro
              ? transfer::transfer_uvs(soup, field.lines, px.proxy, atlas, to, progress)
              : transfer::transfer_uvs(soup, field.lines, field.line_of_corner, px.proxy, atlas, to,
                                       progress);
-  transfer::TransferResult& tr = s.tr;
-  if (!field.probes.empty()) {
-    std::vector<Vec3> starts;
-    for (const auto& p : field.probes) starts.insert(starts.end(), p.points.begin(), p.points.end());
-    std::vector<Vec3> ordered(field.probe_lines.size());
-    for (size_t i = 0; i < field.probe_lines.size(); ++i) ordered[i] = starts[field.probe_lines.corner[i]];
-    auto landing = transfer::land_lines(field.probe_lines, ordered, px.proxy);
-    std::vector<Vec2> probe_uvs(starts.size(), Vec2{0, 0});
-    for (size_t i = 0; i < landing.size(); ++i)
-      probe_uvs[field.probe_lines.corner[i]] = transfer::atlas_uv(atlas, landing[i]);
-    s.cut_corrected = transfer::apply_cut_probes(soup, field.probes, probe_uvs, tr.corner_uvs);
-  }
   s.seconds_transfer = since(t_transfer);
   solve_stage(soup, atlas, options, welds, threads, s, progress);
   return s;

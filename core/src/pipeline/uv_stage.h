@@ -30,7 +30,6 @@ struct UvStageWelds {
 
 struct UvStage {
   transfer::TransferResult tr;  // tr.corner_uvs: the final UVs
-  size_t cut_corrected = 0;
   nlohmann::json solve;         // MapResult's "uv_solve"
   double seconds_transfer = 0, seconds_solve = 0;
 };

@@ -101,12 +101,11 @@ void pad(CandidateList& list, size_t count) {
 // The caller's guess (`best`, e.g. the closest triangle of a neighbouring
 // query) tightens the search radius before any traversal; a guess that is
 // not closer than `best2` is dropped. True when it is already below lo2.
-template <class Shifted>
 bool warm_start(const std::vector<std::array<Vec3, 3>>& tris, Vec3 p, double lo2, double& best2,
-                uint32_t& best, Shifted&& shifted2) {
+                uint32_t& best) {
   if (best >= tris.size()) return false;
   const auto& t = tris[best];
-  double d2 = shifted2(best, point_triangle_distance2(p, t[0], t[1], t[2]));
+  double d2 = point_triangle_distance2(p, t[0], t[1], t[2]);
   if (d2 >= best2) {
     best = UINT32_MAX;
     return false;
@@ -248,13 +247,6 @@ void TriangleBvh::narrow(const CandidateList& from, const Box3& box, double radi
 
 double TriangleBvh::distance_among(Vec3 p, const CandidateList& list, double lo, double hi,
                                    uint32_t* nearest) const {
-  return shift_.empty() ? distance_among_impl<false>(p, list, lo, hi, nearest)
-                        : distance_among_impl<true>(p, list, lo, hi, nearest);
-}
-
-template <bool kShifted>
-double TriangleBvh::distance_among_impl(Vec3 p, const CandidateList& list, double lo, double hi,
-                                        uint32_t* nearest) const {
   double best2 = hi * hi;
   double lo2 = lo > 0 ? lo * lo : -1.0;
   uint32_t best = nearest ? *nearest : UINT32_MAX;
@@ -262,7 +254,7 @@ double TriangleBvh::distance_among_impl(Vec3 p, const CandidateList& list, doubl
     if (nearest && best < tris_.size()) *nearest = best;
     return result;
   };
-  if (warm_start(tris_, p, lo2, best2, best, [this](uint32_t i, double d2) { return shifted2<kShifted>(i, d2); }))
+  if (warm_start(tris_, p, lo2, best2, best))
     return done(std::sqrt(best2));
   const float px = float(p.x - list.center.x), py = float(p.y - list.center.y), pz = float(p.z - list.center.z);
   // Float rounding of a box or plane distance is below 2^-21 of the largest
@@ -300,7 +292,7 @@ double TriangleBvh::distance_among_impl(Vec3 p, const CandidateList& list, doubl
       if (!(bound[k] < limit)) continue;
       uint32_t i = list.ids[s + k];
       const auto& t = tris_[i];
-      double d2 = shifted2<kShifted>(i, point_triangle_distance2(p, t[0], t[1], t[2]));
+      double d2 = point_triangle_distance2(p, t[0], t[1], t[2]);
       if (d2 < best2) {
         best2 = d2;
         best = i;
@@ -343,11 +335,6 @@ uint32_t TriangleBvh::build_node(uint32_t first, uint32_t count, int depth) {
 }
 
 double TriangleBvh::distance(Vec3 p, double lo, double hi, uint32_t* nearest) const {
-  return shift_.empty() ? distance_impl<false>(p, lo, hi, nearest) : distance_impl<true>(p, lo, hi, nearest);
-}
-
-template <bool kShifted>
-double TriangleBvh::distance_impl(Vec3 p, double lo, double hi, uint32_t* nearest) const {
   if (nodes_.empty()) return hi;
   double best2 = hi * hi;  // INFINITY stays INFINITY
   double lo2 = lo > 0 ? lo * lo : -1.0;  // lo <= 0: never stop early
@@ -356,7 +343,7 @@ double TriangleBvh::distance_impl(Vec3 p, double lo, double hi, uint32_t* neares
     if (nearest && best < tris_.size()) *nearest = best;
     return result;
   };
-  if (warm_start(tris_, p, lo2, best2, best, [this](uint32_t i, double d2) { return shifted2<kShifted>(i, d2); }))
+  if (warm_start(tris_, p, lo2, best2, best))
     return done(std::sqrt(best2));
   uint32_t stack[128];
   int top = 0;
@@ -367,7 +354,7 @@ double TriangleBvh::distance_impl(Vec3 p, double lo, double hi, uint32_t* neares
     if (node.count > 0) {
       for (uint32_t i = node.first; i < node.first + node.count; ++i) {
         const auto& t = tris_[i];
-        double d2 = shifted2<kShifted>(i, point_triangle_distance2(p, t[0], t[1], t[2]));
+        double d2 = point_triangle_distance2(p, t[0], t[1], t[2]);
         if (d2 < best2) {
           best2 = d2;
           best = i;

@@ -7,8 +7,8 @@ namespace soupuv::quality {
 
 namespace {
 
-const std::vector<std::string> kClasses = {"sliver_3d", "missed", "cut", "split",
-                                           "corrected", "chart_border", "converged"};
+const std::vector<std::string> kClasses = {"sliver_3d", "missed", "split", "corrected",
+                                           "chart_border", "converged"};
 
 bool flag(const std::vector<uint8_t>& v, size_t t) { return t < v.size() && v[t] != 0; }
 
@@ -74,13 +74,12 @@ StretchTail stretch_tail(const Soup& soup, const CornerUvs& uvs, const CornerLan
         if (c < landing.final_chart.size()) corrected |= landing.final_chart[c] != landing.first_chart[c];
       }
     }
-    size_t cls = 6;
+    size_t cls = 5;
     if (tri.aspect_3d < options.sliver_aspect) cls = 0;
     else if (missed) cls = 1;
-    else if (flag(flags.cut, t)) cls = 2;
-    else if (split) cls = 3;
-    else if (corrected) cls = 4;
-    else if (flag(flags.chart_border, t)) cls = 5;
+    else if (split) cls = 2;
+    else if (corrected) cls = 3;
+    else if (flag(flags.chart_border, t)) cls = 4;
     tri.cls = kClasses[cls];
     ++tail.class_count[cls];
     tail.class_share[cls] += tri.share;

@@ -79,8 +79,7 @@ bool triangles_intersect(const Tri3& a, const Tri3& b) {
 nlohmann::json IntersectionRefinement::diagnostics() const {
   return {{"intersecting_pairs", intersecting_pairs},
           {"cut_triangles", cut_triangles},
-          {"refined_triangles", soup.triangles.size()},
-          {"probes", probes.size()}};
+          {"refined_triangles", soup.triangles.size()}};
 }
 
 IntersectionRefinement refine_intersections(const Soup& soup, Progress& progress, double min_depth) {
@@ -143,78 +142,23 @@ IntersectionRefinement refine_intersections(const Soup& soup, Progress& progress
       continue;
     }
     ++r.cut_triangles;
-    // Split by each cutter's plane in turn; remember every piece's side signs.
-    struct Piece { Polygon poly; std::vector<int> side; };
-    std::vector<Piece> pieces{{Polygon(ta.begin(), ta.end()), {}}};
-    std::vector<Plane> planes;
-    for (uint32_t c : cutters[t]) planes.push_back(plane_of(tri(c)));
-    for (const Plane& p : planes) {
-      std::vector<Piece> next;
-      for (const Piece& piece : pieces)
+    // Split by each cutter's plane in turn: both sides of every piece.
+    std::vector<Polygon> pieces{Polygon(ta.begin(), ta.end())};
+    for (uint32_t c : cutters[t]) {
+      const Plane p = plane_of(tri(c));
+      std::vector<Polygon> next;
+      for (const Polygon& piece : pieces)
         for (int keep : {1, -1}) {
-          Polygon part = clip(piece.poly, p, keep);
-          if (part.size() >= 3 && polygon_area(part) > 0) {
-            Piece q{part, piece.side};
-            q.side.push_back(keep);
-            next.push_back(std::move(q));
-          }
+          Polygon part = clip(piece, p, keep);
+          if (part.size() >= 3 && polygon_area(part) > 0) next.push_back(std::move(part));
         }
       pieces = std::move(next);
     }
-    const Piece* largest = &pieces[0];
-    for (const Piece& piece : pieces) {
-      for (size_t i = 1; i + 1 < piece.poly.size(); ++i)
-        emit(piece.poly[0], piece.poly[i], piece.poly[i + 1]);
-      if (polygon_area(piece.poly) > polygon_area(largest->poly)) largest = &piece;
-    }
-    // Probes: three points well inside the largest piece (pulled halfway from
-    // spread-out vertices towards its centroid), and which corners lie off it.
-    CutProbe probe;
-    probe.triangle = uint32_t(t);
-    const Polygon& poly = largest->poly;
-    Vec3 centroid{};
-    for (Vec3 v : poly) centroid += v;
-    centroid = centroid / double(poly.size());
-    size_t m = poly.size();
-    for (int i = 0; i < 3; ++i) probe.points[i] = 0.5 * (centroid + poly[(i * m) / 3]);
-    for (int k = 0; k < 3; ++k)
-      for (size_t j = 0; j < planes.size(); ++j)
-        if (planes[j].at(ta[k]) * largest->side[j] < -1e-12 * min_depth) probe.corner_off[k] = true;
-    r.probes.push_back(probe);
+    for (const Polygon& piece : pieces)
+      for (size_t i = 1; i + 1 < piece.size(); ++i) emit(piece[0], piece[i], piece[i + 1]);
   }
   progress.update("intersections", 1);
   return r;
-}
-
-size_t apply_cut_probes(const Soup& soup, const std::vector<CutProbe>& probes,
-                        const std::vector<Vec2>& probe_uvs,
-                        std::vector<std::array<Vec2, 3>>& corner_uvs) {
-  size_t changed = 0;
-  for (size_t i = 0; i < probes.size(); ++i) {
-    const CutProbe& pr = probes[i];
-    const Vec3 a = pr.points[0], b = pr.points[1], c = pr.points[2];
-    // Barycentric coordinates in the probe triangle's plane (negative outside:
-    // that is the extrapolation).
-    Vec3 e1 = b - a, e2 = c - a;
-    double d11 = dot(e1, e1), d12 = dot(e1, e2), d22 = dot(e2, e2);
-    double det = d11 * d22 - d12 * d12;
-    if (!(det > 1e-30 * d11 * d22)) continue;  // collinear probes: keep the traced UVs
-    bool any = false;
-    for (int k = 0; k < 3; ++k) {
-      if (!pr.corner_off[k]) continue;
-      Vec3 q = soup.corner(pr.triangle, k) - a;
-      double q1 = dot(q, e1), q2 = dot(q, e2);
-      double v = (d22 * q1 - d12 * q2) / det, w = (d11 * q2 - d12 * q1) / det;
-      Vec2 uv = (1 - v - w) * probe_uvs[3 * i] + v * probe_uvs[3 * i + 1] + w * probe_uvs[3 * i + 2];
-      // Keep UVs inside the texture even if the extrapolation overshoots.
-      uv.x = std::clamp(uv.x, 0.0, 1.0);
-      uv.y = std::clamp(uv.y, 0.0, 1.0);
-      corner_uvs[pr.triangle][k] = uv;
-      any = true;
-    }
-    changed += any;
-  }
-  return changed;
 }
 
 }  // namespace soupuv::transfer

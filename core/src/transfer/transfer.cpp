@@ -52,18 +52,6 @@ double ray_length_for(const TriMesh& mesh) {
 
 }  // namespace
 
-std::vector<SurfacePoint> land_lines(const field::FieldLines& lines,
-                                     const std::vector<Vec3>& fallback_points,
-                                     const proxy::ProxyMesh& proxy) {
-  TriangleBvh bvh(proxy.mesh);
-  const double ray_length = ray_length_for(proxy.mesh);
-  std::vector<SurfacePoint> out(lines.size());
-  Landing how;
-  for (size_t i = 0; i < lines.size(); ++i)
-    out[i] = land_line(bvh, lines, i, fallback_points[i], ray_length, how);
-  return out;
-}
-
 nlohmann::json TransferResult::diagnostics() const {
   return {{"lines", lines},
           {"hits", hits},

@@ -37,13 +37,6 @@ class TriangleBvh {
   // The triangles in the BVH's own order (ids of every query refer to it).
   const std::array<Vec3, 3>& triangle(uint32_t i) const { return tris_[i]; }
 
-  // Per-triangle shifts s_t >= 0 (BVH order; empty = none): every distance
-  // query below then answers min_t (d(p, t) + s_t) instead of d(p, t) — still
-  // 1-Lipschitz, and the box and plane bounds of d stay lower bounds of it.
-  // The gap-keeping proxy (gap_offsets.h) uses it for per-triangle offsets.
-  void set_shifts(std::vector<double> shifts) { shift_ = std::move(shifts); }
-  bool shifted() const { return !shift_.empty(); }
-
   // Distance from p to the nearest triangle, answered only as precisely as a
   // caller deciding "below lo / inside [lo, hi] / above hi" needs: the exact
   // distance when it lies in [lo, hi]; some value < lo (an upper bound of the
@@ -93,25 +86,6 @@ class TriangleBvh {
   std::vector<std::array<Vec3, 3>> tris_;
   std::vector<Node> nodes_;
   std::vector<Box3> tri_boxes_;  // per triangle, in tris_ order (cheap lower bounds)
-  std::vector<double> shift_;    // per triangle, in tris_ order, or empty
-  // Squared shifted distance of triangle i from its squared distance d2.
-  // The queries are compiled twice (kShifted false / true) so the unshifted
-  // proxy pays nothing for the shifts (measured: a run-time test per
-  // triangle made banded queries ~3.5 % slower).
-  template <bool kShifted>
-  double shifted2(uint32_t i, double d2) const {
-    if constexpr (!kShifted) {
-      return d2;
-    } else {
-      if (shift_[i] == 0) return d2;
-      const double d = std::sqrt(d2) + shift_[i];
-      return d * d;
-    }
-  }
-  template <bool kShifted>
-  double distance_impl(Vec3 p, double lo, double hi, uint32_t* nearest) const;
-  template <bool kShifted>
-  double distance_among_impl(Vec3 p, const CandidateList& list, double lo, double hi, uint32_t* nearest) const;
 };
 
 }  // namespace soupuv::proxy

@@ -8,7 +8,6 @@
 //                 altitude < sliver_aspect x longest edge): its UV shape is
 //                 decided by landing noise, not by the map;
 //   missed        a corner's field line missed the proxy (fallback placed it);
-//   cut           the intersection refinement re-placed a corner (probes);
 //   split         corners first landed on different charts (§8 chose one);
 //   corrected     one chart at first, but §8 moved a corner to another;
 //   chart_border  one chart throughout, and a corner's welded vertex also
@@ -19,7 +18,7 @@
 //
 // Input : the soup, final corner UVs (the scale is uv_metrics' own for
 //         stretch_l2: sqrt(total UV area / total 3D area)), per corner what the transfer saw (CornerLanding), and per triangle
-//         flags: cut by the refinement, on a chart border.
+//         flags: on a chart border.
 // Output: counts and squared-sum shares per class, and the worst triangles
 //         with their figures (for the diagnostics and the bench).
 #pragma once
@@ -64,7 +63,6 @@ struct StretchTail {
 };
 
 struct TailFlags {
-  std::vector<uint8_t> cut;           // per triangle (may be empty)
   std::vector<uint8_t> chart_border;  // per triangle (may be empty)
 };
 

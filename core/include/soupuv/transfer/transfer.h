@@ -75,11 +75,4 @@ TransferResult transfer_uvs(const Soup& soup, const field::FieldLines& lines,
 // UV of a proxy surface point: barycentric mix of its face's atlas corner UVs.
 Vec2 atlas_uv(const atlas::Atlas& atlas, const SurfacePoint& p);
 
-// Where lines that start at arbitrary points land (the probes of cut
-// triangles, see intersect.h), with the same fallbacks; fallback_points[i] is
-// line i's start for the closest-point fallback.
-std::vector<SurfacePoint> land_lines(const field::FieldLines& lines,
-                                     const std::vector<Vec3>& fallback_points,
-                                     const proxy::ProxyMesh& proxy);
-
 }  // namespace soupuv::transfer
