@@ -50,6 +50,7 @@
 #include "soupuv/io/load.h"
 #include "soupuv/pipeline.h"
 #include "soupuv/quality/uv_metrics.h"
+#include "soupuv/geometry/triangle_stretch.h"
 
 namespace {
 
@@ -144,10 +145,10 @@ void emit_chart_rows(const std::string& mesh, const std::string& variant, const 
   for (size_t f = 0; f < proxy.faces.size(); ++f) {
     const auto& fv = proxy.faces[f];
     const Vec3 p0 = proxy.vertices[fv[0]], p1 = proxy.vertices[fv[1]], p2 = proxy.vertices[fv[2]];
-    double big, small;
+    geometry::SanderStretch st;
     const double a = 0.5 * norm(cross(p1 - p0, p2 - p0));
-    if (!quality::stretch_singular_values(p0, p1, p2, at.face_uvs[f], big, small)) continue;
-    face_sq[f] = 0.5 * (big * big + small * small) * scale * scale;
+    if (!geometry::sander_stretch(p0, p1, p2, at.face_uvs[f], st)) continue;
+    face_sq[f] = 0.5 * (st.big * st.big + st.small * st.small) * scale * scale;
     proxy_area[at.face_chart[f]] += a;
     proxy_sq[at.face_chart[f]] += a * face_sq[f];
   }
@@ -164,12 +165,11 @@ void emit_chart_rows(const std::string& mesh, const std::string& variant, const 
       if (inside(c, at.face_uvs[f])) face = static_cast<int>(f);
     if (face < 0) continue;
     const double a = triangle_area(soup, t);
-    double big, small;
-    if (!(a > 0) || !quality::stretch_singular_values(soup.corner(t, 0), soup.corner(t, 1), soup.corner(t, 2), uv,
-                                                      big, small))
+    geometry::SanderStretch st;
+    if (!(a > 0) || !geometry::sander_stretch(soup.corner(t, 0), soup.corner(t, 1), soup.corner(t, 2), uv, st))
       continue;
     soup_area[at.face_chart[face]] += a;
-    soup_sq[at.face_chart[face]] += a * 0.5 * (big * big + small * small) * scale * scale;
+    soup_sq[at.face_chart[face]] += a * 0.5 * (st.big * st.big + st.small * st.small) * scale * scale;
     face_soup_area[face] += a;
   }
   // The proxy chart's stretch weighted by the soup area that landed on each

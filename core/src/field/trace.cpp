@@ -34,6 +34,7 @@
 #include "soupuv/field/sources.h"
 #include "soupuv/field/tracer_field.h"
 #include "soupuv/field/triangle_integrals.h"
+#include "soupuv/geometry/closest_point.h"
 
 namespace soupuv::field {
 
@@ -218,7 +219,7 @@ class BatchField {
         unit_potential_field(src_, j, x[i], nullptr, &ej);
         e += charges_[j] * ej;
         if (nearest && src_.area[j] > 0 && src_.is_near(j, x[i]))
-          best = std::min(best, point_triangle_distance(src_.a[j], src_.b[j], src_.c[j], x[i]));
+          best = std::min(best, geometry::point_triangle_distance(x[i], src_.a[j], src_.b[j], src_.c[j]));
       }
       E[i] = e;
       if (nearest) (*nearest)[i] = best;

@@ -64,47 +64,6 @@ TriangleIntegrals triangle_integrals(Vec3 a, Vec3 b, Vec3 c, Vec3 x) {
   return out;
 }
 
-double point_triangle_distance(Vec3 a, Vec3 b, Vec3 c, Vec3 x) {
-  // Closest point by region tests on the barycentric parameters (Ericson's
-  // classification: vertex, edge or face region).
-  Vec3 ab = b - a, ac = c - a, ax = x - a;
-  double d1 = dot(ab, ax), d2 = dot(ac, ax);
-  if (d1 <= 0 && d2 <= 0) return norm(ax);
-  Vec3 bx = x - b;
-  double d3 = dot(ab, bx), d4 = dot(ac, bx);
-  if (d3 >= 0 && d4 <= d3) return norm(bx);
-  double vc = d1 * d4 - d3 * d2;
-  if (vc <= 0 && d1 >= 0 && d3 <= 0) {
-    double t = d1 / (d1 - d3);
-    return norm(x - (a + t * ab));
-  }
-  Vec3 cx = x - c;
-  double d5 = dot(ab, cx), d6 = dot(ac, cx);
-  if (d6 >= 0 && d5 <= d6) return norm(cx);
-  double vb = d5 * d2 - d1 * d6;
-  if (vb <= 0 && d2 >= 0 && d6 <= 0) {
-    double t = d2 / (d2 - d6);
-    return norm(x - (a + t * ac));
-  }
-  double va = d3 * d6 - d5 * d4;
-  if (va <= 0 && (d4 - d3) >= 0 && (d5 - d6) >= 0) {
-    double t = (d4 - d3) / ((d4 - d3) + (d5 - d6));
-    return norm(x - (b + t * (c - b)));
-  }
-  double denom = va + vb + vc;
-  if (!(denom > 0)) {  // degenerate triangle: nearest of the three edges
-    auto seg = [&](Vec3 p, Vec3 q) {
-      Vec3 d = q - p;
-      double dd = dot(d, d);
-      double t = dd > 0 ? std::clamp(dot(x - p, d) / dd, 0.0, 1.0) : 0.0;
-      return norm(x - (p + t * d));
-    };
-    return std::min({seg(a, b), seg(b, c), seg(c, a)});
-  }
-  double v = vb / denom, w = vc / denom;
-  return norm(x - (a + v * ab + w * ac));
-}
-
 bool segment_intersects_triangle(Vec3 p, Vec3 q, Vec3 a, Vec3 b, Vec3 c) {
   auto vol = [](Vec3 u, Vec3 v, Vec3 w, Vec3 z) { return dot(cross(v - u, w - u), z - u); };
   double sp = vol(a, b, c, p), sq = vol(a, b, c, q);

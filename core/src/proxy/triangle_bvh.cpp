@@ -5,45 +5,14 @@
 #include <algorithm>
 #include <cmath>
 
+#include "soupuv/geometry/closest_point.h"
+
 namespace soupuv::proxy {
 namespace {
 
+using geometry::point_triangle_distance2;
+
 constexpr uint32_t kLeafSize = 4;
-
-double segment_distance2(Vec3 p, Vec3 a, Vec3 b) {
-  Vec3 ab = b - a;
-  double len2 = norm2(ab);
-  double t = len2 > 0 ? std::clamp(dot(p - a, ab) / len2, 0.0, 1.0) : 0.0;
-  return norm2(p - (a + t * ab));
-}
-
-// Squared distance by the Voronoi regions of the triangle (Ericson, Real-Time
-// Collision Detection §5.1.5, written from the description); degenerate
-// triangles fall back to their edges.
-double point_triangle_distance2(Vec3 p, Vec3 a, Vec3 b, Vec3 c) {
-  Vec3 ab = b - a, ac = c - a, ap = p - a;
-  double d1 = dot(ab, ap), d2 = dot(ac, ap);
-  if (d1 <= 0 && d2 <= 0) return norm2(ap);
-  Vec3 bp = p - b;
-  double d3 = dot(ab, bp), d4 = dot(ac, bp);
-  if (d3 >= 0 && d4 <= d3) return norm2(bp);
-  double vc = d1 * d4 - d3 * d2;
-  if (vc <= 0 && d1 >= 0 && d3 <= 0) return segment_distance2(p, a, b);
-  Vec3 cp = p - c;
-  double d5 = dot(ab, cp), d6 = dot(ac, cp);
-  if (d6 >= 0 && d5 <= d6) return norm2(cp);
-  double vb = d5 * d2 - d1 * d6;
-  if (vb <= 0 && d2 >= 0 && d6 <= 0) return segment_distance2(p, a, c);
-  double va = d3 * d6 - d5 * d4;
-  if (va <= 0 && (d4 - d3) >= 0 && (d5 - d6) >= 0) return segment_distance2(p, b, c);
-  double denom = va + vb + vc;
-  if (!(denom > 0)) {  // degenerate: no interior region
-    return std::min({segment_distance2(p, a, b), segment_distance2(p, b, c),
-                     segment_distance2(p, a, c)});
-  }
-  double v = vb / denom, w = vc / denom;
-  return norm2(p - (a + v * ab + w * ac));
-}
 
 // The hottest function of the proxy (a third of the narrow band's time):
 // written per axis so it compiles to branch-free min/max.
@@ -115,10 +84,6 @@ bool warm_start(const std::vector<std::array<Vec3, 3>>& tris, Vec3 p, double lo2
 }
 
 }  // namespace
-
-double point_triangle_distance(Vec3 p, Vec3 a, Vec3 b, Vec3 c) {
-  return std::sqrt(point_triangle_distance2(p, a, b, c));
-}
 
 TriangleBvh::TriangleBvh(const Soup& soup) {
   tris_.reserve(soup.triangles.size());

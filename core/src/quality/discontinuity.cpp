@@ -1,4 +1,5 @@
 #include "soupuv/quality/discontinuity.h"
+#include "soupuv/geometry/triangle_stretch.h"
 
 #include <algorithm>
 #include <cmath>
@@ -102,11 +103,11 @@ DiscontinuityBreakdown discontinuity_breakdown(const Soup& soup, const CornerUvs
   double sum = 0;
   for (size_t t = 0; t < uvs.size(); ++t) {
     const double a = triangle_area(soup, t);
-    double big, small;
-    if (!(a > 0) || !stretch_singular_values(soup.corner(t, 0), soup.corner(t, 1),
-                                             soup.corner(t, 2), uvs[t], big, small))
+    geometry::SanderStretch st;
+    if (!(a > 0) || !geometry::sander_stretch(soup.corner(t, 0), soup.corner(t, 1),
+                                             soup.corner(t, 2), uvs[t], st))
       continue;
-    terms.push_back({a * 0.5 * (big * big + small * small), uint32_t(t)});
+    terms.push_back({a * 0.5 * (st.big * st.big + st.small * st.small), uint32_t(t)});
     sum += terms.back().first;
   }
   const size_t worst = terms.empty() ? 0 : std::max<size_t>(1, terms.size() / 100);

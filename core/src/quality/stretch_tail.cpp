@@ -1,4 +1,5 @@
 #include "soupuv/quality/stretch_tail.h"
+#include "soupuv/geometry/triangle_stretch.h"
 
 #include <algorithm>
 #include <cmath>
@@ -43,11 +44,11 @@ StretchTail stretch_tail(const Soup& soup, const CornerUvs& uvs, const CornerLan
   double sum = 0;
   for (size_t t = 0; t < n; ++t) {
     const double a = triangle_area(soup, t);
-    double big, small;
-    if (!(a > 0) || !stretch_singular_values(soup.corner(t, 0), soup.corner(t, 1),
-                                             soup.corner(t, 2), uvs[t], big, small))
+    geometry::SanderStretch st;
+    if (!(a > 0) || !geometry::sander_stretch(soup.corner(t, 0), soup.corner(t, 1),
+                                             soup.corner(t, 2), uvs[t], st))
       continue;
-    const double l2_sq = 0.5 * (big * big + small * small);
+    const double l2_sq = 0.5 * (st.big * st.big + st.small * st.small);
     terms.push_back({a * l2_sq, uint32_t(t), std::sqrt(l2_sq) * scale});
     sum += a * l2_sq;
   }

@@ -4,6 +4,8 @@
 #include <cmath>
 #include <numeric>
 
+#include "soupuv/geometry/closest_point.h"
+
 namespace soupuv::transfer {
 
 namespace {
@@ -35,48 +37,6 @@ double box_distance2(const Box3& box, Vec3 p) {
 }
 
 }  // namespace
-
-Vec3 closest_point_on_triangle(Vec3 p, Vec3 a, Vec3 b, Vec3 c, std::array<double, 3>& bary) {
-  // Voronoi regions of the vertices, edges and face, tested in turn.
-  Vec3 ab = b - a, ac = c - a, ap = p - a;
-  double d1 = dot(ab, ap), d2 = dot(ac, ap);
-  if (d1 <= 0 && d2 <= 0) { bary = {1, 0, 0}; return a; }
-  Vec3 bp = p - b;
-  double d3 = dot(ab, bp), d4 = dot(ac, bp);
-  if (d3 >= 0 && d4 <= d3) { bary = {0, 1, 0}; return b; }
-  double vc = d1 * d4 - d3 * d2;
-  if (vc <= 0 && d1 >= 0 && d3 <= 0) {
-    double v = d1 / (d1 - d3);
-    bary = {1 - v, v, 0};
-    return a + v * ab;
-  }
-  Vec3 cp = p - c;
-  double d5 = dot(ab, cp), d6 = dot(ac, cp);
-  if (d6 >= 0 && d5 <= d6) { bary = {0, 0, 1}; return c; }
-  double vb = d5 * d2 - d1 * d6;
-  if (vb <= 0 && d2 >= 0 && d6 <= 0) {
-    double w = d2 / (d2 - d6);
-    bary = {1 - w, 0, w};
-    return a + w * ac;
-  }
-  double va = d3 * d6 - d5 * d4;
-  if (va <= 0 && (d4 - d3) >= 0 && (d5 - d6) >= 0) {
-    double w = (d4 - d3) / ((d4 - d3) + (d5 - d6));
-    bary = {0, 1 - w, w};
-    return b + w * (c - b);
-  }
-  double denom = va + vb + vc;
-  if (!(std::abs(denom) > 0)) {  // degenerate triangle: nearest vertex
-    double da = norm2(p - a), db = norm2(p - b), dc = norm2(p - c);
-    if (da <= db && da <= dc) { bary = {1, 0, 0}; return a; }
-    if (db <= dc) { bary = {0, 1, 0}; return b; }
-    bary = {0, 0, 1};
-    return c;
-  }
-  double v = vb / denom, w = vc / denom;
-  bary = {1 - v - w, v, w};
-  return a + v * ab + w * ac;
-}
 
 bool segment_triangle(Vec3 a, Vec3 b, Vec3 p0, Vec3 p1, Vec3 p2, double& t,
                       std::array<double, 3>& bary) {
@@ -198,15 +158,14 @@ SurfacePoint TriangleBvh::closest_point(Vec3 p) const {
     if (n.count > 0) {
       for (uint32_t i = n.first; i < n.first + n.count; ++i) {
         const auto& tri = mesh_->faces[faces_[i]];
-        std::array<double, 3> bary;
-        Vec3 q = closest_point_on_triangle(p, mesh_->vertices[tri[0]], mesh_->vertices[tri[1]],
-                                           mesh_->vertices[tri[2]], bary);
-        double d2 = norm2(q - p);
+        const geometry::ClosestPoint q = geometry::closest_point_on_triangle(
+            p, mesh_->vertices[tri[0]], mesh_->vertices[tri[1]], mesh_->vertices[tri[2]]);
+        double d2 = norm2(q.point - p);
         if (d2 < best_d2) {
           best_d2 = d2;
           best.face = faces_[i];
-          best.bary = bary;
-          best.point = q;
+          best.bary = q.bary;
+          best.point = q.point;
         }
       }
     } else if (top + 2 <= 64) {

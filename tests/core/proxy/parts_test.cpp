@@ -12,6 +12,7 @@
 #include "soupuv/proxy/mesh_checks.h"
 #include "soupuv/proxy/narrow_band.h"
 #include "soupuv/proxy/taubin_smooth.h"
+#include "soupuv/geometry/closest_point.h"
 #include "soupuv/proxy/triangle_bvh.h"
 #include "testing/shapes.h"
 
@@ -21,7 +22,7 @@ namespace {
 double brute_distance(const Soup& s, Vec3 p) {
   double best = INFINITY;
   for (size_t t = 0; t < s.triangles.size(); ++t)
-    best = std::min(best, point_triangle_distance(p, s.corner(t, 0), s.corner(t, 1), s.corner(t, 2)));
+    best = std::min(best, geometry::point_triangle_distance(p, s.corner(t, 0), s.corner(t, 1), s.corner(t, 2)));
   return best;
 }
 
@@ -36,17 +37,6 @@ double winding_number(const TriMesh& m, Vec3 p) {
     sum += 2 * std::atan2(num, den);
   }
   return sum / (4 * M_PI);
-}
-
-TEST(ProxyParts, PointTriangleDistanceKnownValues) {
-  Vec3 a{0, 0, 0}, b{1, 0, 0}, c{0, 1, 0};
-  EXPECT_NEAR(point_triangle_distance({0.2, 0.2, 0.5}, a, b, c), 0.5, 1e-15);  // face
-  EXPECT_NEAR(point_triangle_distance({-1, -1, 0}, a, b, c), std::sqrt(2.0), 1e-15);  // vertex
-  EXPECT_NEAR(point_triangle_distance({0.5, -2, 0}, a, b, c), 2.0, 1e-15);  // edge
-  EXPECT_NEAR(point_triangle_distance({1, 1, 0}, a, b, c), std::sqrt(0.5), 1e-15);  // hypotenuse
-  // Degenerate triangles degrade to a segment and to a point.
-  EXPECT_NEAR(point_triangle_distance({0.5, 1, 0}, a, b, b), 1.0, 1e-15);
-  EXPECT_NEAR(point_triangle_distance({0, 0, 3}, a, a, a), 3.0, 1e-15);
 }
 
 TEST(ProxyParts, BvhDistanceMatchesBruteForce) {

@@ -6,6 +6,7 @@
 #include "testing/shapes.h"
 #include "soupuv/transfer/transfer.h"
 #include "soupuv/transfer/triangle_bvh.h"
+#include "soupuv/geometry/closest_point.h"
 
 using namespace soupuv;
 using namespace soupuv::transfer;
@@ -74,8 +75,8 @@ TEST(TriangleBvh, MatchesBruteForce) {
       std::array<double, 3> bary;
       if (segment_triangle(a, b, m.vertices[f[0]], m.vertices[f[1]], m.vertices[f[2]], t, bary))
         best_t = std::min(best_t, t);
-      best_d = std::min(best_d, norm(a - closest_point_on_triangle(a, m.vertices[f[0]], m.vertices[f[1]],
-                                                                   m.vertices[f[2]], bary)));
+      best_d = std::min(best_d, geometry::point_triangle_distance(a, m.vertices[f[0]], m.vertices[f[1]],
+                                                                  m.vertices[f[2]]));
     }
     SurfacePoint hit = bvh.first_hit(a, b);
     EXPECT_EQ(hit.found(), std::isfinite(best_t));

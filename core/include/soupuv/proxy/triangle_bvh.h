@@ -19,10 +19,6 @@
 
 namespace soupuv::proxy {
 
-// Distance from p to the triangle (a, b, c); exact for degenerate triangles too
-// (they degrade to segments or points).
-double point_triangle_distance(Vec3 p, Vec3 a, Vec3 b, Vec3 c);
-
 // What a ray from a point says about being inside a closed surface.
 enum class RayParity { inside, outside, uncertain };
 

@@ -67,12 +67,6 @@ UvMetrics uv_metrics(const Soup& soup, const CornerUvs& uvs,
                      const std::vector<AdjacentPair>& adjacency,
                      const UvMetricsOptions& options = {});
 
-// Singular values (largest, smallest) of the map from the triangle's UV
-// domain onto its 3D triangle (Sander et al.'s Gamma and gamma, before the
-// global normalisation); false when the UV triangle has no area.
-bool stretch_singular_values(Vec3 p0, Vec3 p1, Vec3 p2, const std::array<Vec2, 3>& uv,
-                             double& big, double& small);
-
 // Area-weighted L2 stretch over the triangles with include[t] != 0, at a
 // given global scale (UvMetrics::uv_per_length convention: the normalisation
 // the full figure used), so parts of a map can be compared with the whole.
