@@ -35,6 +35,7 @@
 #include "soupuv/field/tracer_field.h"
 #include "soupuv/field/triangle_integrals.h"
 #include "soupuv/geometry/closest_point.h"
+#include "soupuv/geometry/segment_triangle.h"
 
 namespace soupuv::field {
 
@@ -199,7 +200,7 @@ class BatchField {
   bool segment_crosses(Vec3 a, Vec3 b) const {
     if (fmm_) return fmm_->segment_crosses(a, b);
     for (size_t j = 0; j < src_.size(); ++j)
-      if (segment_intersects_triangle(a, b, src_.a[j], src_.b[j], src_.c[j])) return true;
+      if (geometry::segment_crosses_triangle(a, b, src_.a[j], src_.b[j], src_.c[j])) return true;
     return false;
   }
 

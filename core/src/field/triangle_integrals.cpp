@@ -64,16 +64,4 @@ TriangleIntegrals triangle_integrals(Vec3 a, Vec3 b, Vec3 c, Vec3 x) {
   return out;
 }
 
-bool segment_intersects_triangle(Vec3 p, Vec3 q, Vec3 a, Vec3 b, Vec3 c) {
-  auto vol = [](Vec3 u, Vec3 v, Vec3 w, Vec3 z) { return dot(cross(v - u, w - u), z - u); };
-  double sp = vol(a, b, c, p), sq = vol(a, b, c, q);
-  if ((sp > 0 && sq > 0) || (sp < 0 && sq < 0) || (sp == 0 && sq == 0)) return false;
-  // The segment's line must pass through the triangle: the three edge volumes
-  // seen from the segment agree in sign.
-  double s1 = vol(p, q, a, b), s2 = vol(p, q, b, c), s3 = vol(p, q, c, a);
-  bool neg = s1 < 0 || s2 < 0 || s3 < 0;
-  bool pos = s1 > 0 || s2 > 0 || s3 > 0;
-  return !(neg && pos);
-}
-
 }  // namespace soupuv::field

@@ -3,20 +3,11 @@
 
 #include <algorithm>
 #include <memory>
-#include <numeric>
-
 #include "soupuv/proxy/triangle_bvh.h"
+#include "soupuv/union_find.h"
 
 namespace soupuv::proxy {
 namespace {
-
-int find_root(std::vector<int>& parent, int v) {
-  while (parent[v] != v) {
-    parent[v] = parent[parent[v]];
-    v = parent[v];
-  }
-  return v;
-}
 
 bool box_inside(const Box3& inner, const Box3& outer) {
   for (int k = 0; k < 3; ++k)
@@ -38,19 +29,13 @@ double signed_volume(const TriMesh& mesh, const std::vector<int>& face_component
 
 Components find_components(const TriMesh& mesh) {
   Components out;
-  std::vector<int> parent(mesh.vertices.size());
-  std::iota(parent.begin(), parent.end(), 0);
-  for (const auto& t : mesh.faces) {
-    int a = find_root(parent, t[0]);
-    for (int k = 1; k < 3; ++k) {
-      int b = find_root(parent, t[k]);
-      if (a != b) parent[b] = a;
-    }
-  }
+  UnionFind vertices(mesh.vertices.size());
+  for (const auto& t : mesh.faces)
+    for (int k = 1; k < 3; ++k) vertices.unite(t[0], t[k]);
   std::vector<int> id_of_root(mesh.vertices.size(), -1);
   out.face_component.resize(mesh.faces.size());
   for (size_t f = 0; f < mesh.faces.size(); ++f) {
-    int root = find_root(parent, mesh.faces[f][0]);
+    const uint32_t root = vertices.find(mesh.faces[f][0]);
     if (id_of_root[root] < 0) id_of_root[root] = out.count++;
     out.face_component[f] = id_of_root[root];
   }

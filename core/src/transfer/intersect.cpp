@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include "soupuv/geometry/plane.h"
+#include "soupuv/geometry/triangle_triangle.h"
 #include "soupuv/transfer/triangle_bvh.h"
 
 namespace soupuv::transfer {
@@ -10,40 +12,9 @@ namespace soupuv::transfer {
 namespace {
 
 using Tri3 = std::array<Vec3, 3>;
+using geometry::Plane;
+using geometry::plane_of;
 using Polygon = std::vector<Vec3>;
-
-struct Plane {
-  Vec3 n;      // unit normal
-  double d;    // n . x - d = signed distance
-  double at(Vec3 x) const { return dot(n, x) - d; }
-};
-
-Plane plane_of(const Tri3& t) {
-  Vec3 n = normalized(cross(t[1] - t[0], t[2] - t[0]));
-  return {n, dot(n, t[0])};
-}
-
-// Interval of the line parameter (along dir) where triangle t crosses plane p;
-// false if it does not cross.
-bool crossing_interval(const Tri3& t, const Plane& p, Vec3 dir, double& lo, double& hi) {
-  double d[3] = {p.at(t[0]), p.at(t[1]), p.at(t[2])};
-  lo = INFINITY;
-  hi = -INFINITY;
-  bool any = false;
-  for (int k = 0; k < 3; ++k) {
-    int k1 = (k + 1) % 3;
-    if (d[k] == 0) {
-      double s = dot(t[k], dir);
-      lo = std::min(lo, s); hi = std::max(hi, s); any = true;
-    }
-    if ((d[k] < 0 && d[k1] > 0) || (d[k] > 0 && d[k1] < 0)) {
-      Vec3 x = t[k] + (t[k1] - t[k]) * (d[k] / (d[k] - d[k1]));
-      double s = dot(x, dir);
-      lo = std::min(lo, s); hi = std::max(hi, s); any = true;
-    }
-  }
-  return any;
-}
 
 double polygon_area(const Polygon& p) {
   Vec3 s{};
@@ -65,16 +36,6 @@ Polygon clip(const Polygon& poly, const Plane& plane, int keep) {
 }
 
 }  // namespace
-
-bool triangles_intersect(const Tri3& a, const Tri3& b) {
-  Plane pa = plane_of(a), pb = plane_of(b);
-  Vec3 dir = cross(pa.n, pb.n);
-  if (norm(dir) < 1e-12) return false;  // parallel or coplanar: no transversal cut
-  double alo, ahi, blo, bhi;
-  if (!crossing_interval(a, pb, dir, alo, ahi) || !crossing_interval(b, pa, dir, blo, bhi))
-    return false;
-  return std::min(ahi, bhi) - std::max(alo, blo) > 0;
-}
 
 nlohmann::json IntersectionRefinement::diagnostics() const {
   return {{"intersecting_pairs", intersecting_pairs},
@@ -115,7 +76,7 @@ IntersectionRefinement refine_intersections(const Soup& soup, Progress& progress
         return lo < -min_depth && hi > min_depth;
       };
       bool a_cut = deep(ta, tb), b_cut = deep(tb, ta);
-      if (!(a_cut || b_cut) || !triangles_intersect(ta, tb)) return;
+      if (!(a_cut || b_cut) || !geometry::triangles_intersect(ta, tb)) return;
       ++r.intersecting_pairs;
       if (a_cut && cutters[a].size() < kMaxCutters) cutters[a].push_back(uint32_t(b));
       if (b_cut && cutters[b].size() < kMaxCutters) cutters[b].push_back(uint32_t(a));

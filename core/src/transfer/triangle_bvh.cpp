@@ -5,6 +5,7 @@
 #include <numeric>
 
 #include "soupuv/geometry/closest_point.h"
+#include "soupuv/geometry/segment_triangle.h"
 
 namespace soupuv::transfer {
 
@@ -37,28 +38,6 @@ double box_distance2(const Box3& box, Vec3 p) {
 }
 
 }  // namespace
-
-bool segment_triangle(Vec3 a, Vec3 b, Vec3 p0, Vec3 p1, Vec3 p2, double& t,
-                      std::array<double, 3>& bary) {
-  Vec3 d = b - a;
-  Vec3 e1 = p1 - p0, e2 = p2 - p0;
-  Vec3 h = cross(d, e2);
-  double det = dot(e1, h);
-  // Relative threshold: parallel segments cannot cross the plane properly.
-  if (std::abs(det) <= 1e-14 * norm(d) * norm(e1) * norm(e2)) return false;
-  double inv = 1.0 / det;
-  Vec3 s = a - p0;
-  double u = inv * dot(s, h);
-  if (u < 0 || u > 1) return false;
-  Vec3 q = cross(s, e1);
-  double v = inv * dot(d, q);
-  if (v < 0 || u + v > 1) return false;
-  double tt = inv * dot(e2, q);
-  if (tt < 0 || tt > 1) return false;
-  t = tt;
-  bary = {1 - u - v, u, v};
-  return true;
-}
 
 TriangleBvh::TriangleBvh(const TriMesh& mesh) : mesh_(&mesh) {
   faces_.resize(mesh.faces.size());
@@ -127,7 +106,7 @@ SurfacePoint TriangleBvh::first_hit(Vec3 a, Vec3 b) const {
         const auto& tri = mesh_->faces[faces_[i]];
         double t;
         std::array<double, 3> bary;
-        if (segment_triangle(a, b, mesh_->vertices[tri[0]], mesh_->vertices[tri[1]],
+        if (geometry::segment_triangle_hit(a, b, mesh_->vertices[tri[0]], mesh_->vertices[tri[1]],
                              mesh_->vertices[tri[2]], t, bary) &&
             t <= tmax && (!best.found() || t < best.t)) {
           tmax = t;

@@ -7,6 +7,7 @@
 
 #include "soupuv/field/quadrature.h"
 #include "soupuv/field/triangle_integrals.h"
+#include "soupuv/geometry/segment_triangle.h"
 
 using namespace soupuv;
 using namespace soupuv::field;
@@ -150,7 +151,7 @@ TEST(TriangleIntegrals, FieldIsMinusGradientAndJumpsAcrossTheFace) {
 }
 
 TEST(TriangleIntegrals, SegmentCrossings) {
-  EXPECT_TRUE(segment_intersects_triangle({0.2, 0.2, -1}, {0.2, 0.2, 1}, {0, 0, 0}, {1, 0, 0}, {0, 1, 0}));
-  EXPECT_FALSE(segment_intersects_triangle({0.8, 0.8, -1}, {0.8, 0.8, 1}, {0, 0, 0}, {1, 0, 0}, {0, 1, 0}));
-  EXPECT_FALSE(segment_intersects_triangle({0.2, 0.2, 0.1}, {0.2, 0.2, 1}, {0, 0, 0}, {1, 0, 0}, {0, 1, 0}));
+  EXPECT_TRUE(geometry::segment_crosses_triangle({0.2, 0.2, -1}, {0.2, 0.2, 1}, {0, 0, 0}, {1, 0, 0}, {0, 1, 0}));
+  EXPECT_FALSE(geometry::segment_crosses_triangle({0.8, 0.8, -1}, {0.8, 0.8, 1}, {0, 0, 0}, {1, 0, 0}, {0, 1, 0}));
+  EXPECT_FALSE(geometry::segment_crosses_triangle({0.2, 0.2, 0.1}, {0.2, 0.2, 1}, {0, 0, 0}, {1, 0, 0}, {0, 1, 0}));
 }

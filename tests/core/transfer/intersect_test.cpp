@@ -1,6 +1,7 @@
 #include <gtest/gtest.h>
 
 #include "testing/shapes.h"
+#include "soupuv/geometry/triangle_triangle.h"
 #include "soupuv/transfer/intersect.h"
 
 using namespace soupuv;
@@ -40,10 +41,10 @@ double total_area(const Soup& s) {
 
 TEST(Intersect, TriangleTriangleCases) {
   std::array<Vec3, 3> t{Vec3{0, 0, 0}, Vec3{1, 0, 0}, Vec3{0, 1, 0}};
-  EXPECT_TRUE(triangles_intersect(t, {Vec3{0.2, 0.2, -1}, Vec3{0.2, 0.2, 1}, Vec3{0.3, 0.1, 0}}));
-  EXPECT_FALSE(triangles_intersect(t, {Vec3{2, 2, -1}, Vec3{2, 2, 1}, Vec3{3, 2, 0}}));       // plane crossed, triangle missed
-  EXPECT_FALSE(triangles_intersect(t, {Vec3{0, 0, 0.1}, Vec3{1, 0, 0.2}, Vec3{0, 1, 0.3}}));  // above
-  EXPECT_FALSE(triangles_intersect(t, {Vec3{0, 0, 0}, Vec3{1, 0, 0}, Vec3{0, -1, 0}}));       // coplanar neighbour
+  EXPECT_TRUE(geometry::triangles_intersect(t, {Vec3{0.2, 0.2, -1}, Vec3{0.2, 0.2, 1}, Vec3{0.3, 0.1, 0}}));
+  EXPECT_FALSE(geometry::triangles_intersect(t, {Vec3{2, 2, -1}, Vec3{2, 2, 1}, Vec3{3, 2, 0}}));       // plane crossed, triangle missed
+  EXPECT_FALSE(geometry::triangles_intersect(t, {Vec3{0, 0, 0.1}, Vec3{1, 0, 0.2}, Vec3{0, 1, 0.3}}));  // above
+  EXPECT_FALSE(geometry::triangles_intersect(t, {Vec3{0, 0, 0}, Vec3{1, 0, 0}, Vec3{0, -1, 0}}));       // coplanar neighbour
 }
 
 TEST(Intersect, Fig19PlanesAreRefinedSoEveryPieceIsOnOneSide) {

@@ -7,6 +7,7 @@
 #include "soupuv/transfer/transfer.h"
 #include "soupuv/transfer/triangle_bvh.h"
 #include "soupuv/geometry/closest_point.h"
+#include "soupuv/geometry/segment_triangle.h"
 
 using namespace soupuv;
 using namespace soupuv::transfer;
@@ -73,7 +74,7 @@ TEST(TriangleBvh, MatchesBruteForce) {
     for (const auto& f : m.faces) {
       double t;
       std::array<double, 3> bary;
-      if (segment_triangle(a, b, m.vertices[f[0]], m.vertices[f[1]], m.vertices[f[2]], t, bary))
+      if (geometry::segment_triangle_hit(a, b, m.vertices[f[0]], m.vertices[f[1]], m.vertices[f[2]], t, bary))
         best_t = std::min(best_t, t);
       best_d = std::min(best_d, geometry::point_triangle_distance(a, m.vertices[f[0]], m.vertices[f[1]],
                                                                   m.vertices[f[2]]));

@@ -41,8 +41,4 @@ struct IntersectionRefinement {
 IntersectionRefinement refine_intersections(const Soup& soup, Progress& progress,
                                             double min_depth = 0);
 
-// Exact-ish triangle-triangle intersection: true when the triangles share a
-// segment of positive length (coplanar pairs are reported as not cutting).
-bool triangles_intersect(const std::array<Vec3, 3>& a, const std::array<Vec3, 3>& b);
-
 }  // namespace soupuv::transfer

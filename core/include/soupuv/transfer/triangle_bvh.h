@@ -76,9 +76,4 @@ class TriangleBvh {
   std::vector<Node> nodes_;
 };
 
-// Segment a->b against triangle (p0, p1, p2), two-sided (Moller-Trumbore).
-// Returns true with the segment parameter t in [0,1] and barycentrics.
-bool segment_triangle(Vec3 a, Vec3 b, Vec3 p0, Vec3 p1, Vec3 p2, double& t,
-                      std::array<double, 3>& bary);
-
 }  // namespace soupuv::transfer
