@@ -78,7 +78,7 @@ struct MapOptions {
   // (only original corners are traced; the writer keeps the original
   // triangles).
   bool refine_intersections = true;
-  // §12.4: one traced side per welded component (transfer/orient.h).
+  // §12.4: one traced side per welded component (field/orient.h).
   bool orient_sides = true;
   // Copies of one welded position share one field line (start at their mean,
   // along their mean oriented normal); false: one line per corner from its
@@ -97,12 +97,12 @@ struct MapOptions {
   double weld_tolerance = 2e-3;
   double weld_edge_fraction = 1.0;
   // The §8 neighbours and the UV solve weld by matching edges instead
-  // (quality::weld_by_edges), within edge_weld_tolerance * diagonal (the
+  // (geometry::weld_by_edges), within edge_weld_tolerance * diagonal (the
   // shared soups' copies lie up to 3e-3 apart). Welding corners joined
   // distinct vertices where the noise reaches the edge length (teapot rim:
   // 409 corners) and the previous chain's UV repair could not start there;
-  // measured with it and --original (loaded machine), weld_corners ->
-  // weld_by_edges, continuity /
+  // measured with it and --original (loaded machine), geometry::weld_corners ->
+  // geometry::weld_by_edges, continuity /
   // flipped % / L2: teapot 0.935 / 1.31 / 1.61 -> 0.938 / 0.97 / 1.35,
   // suzanne 0.906 / 1.14 / 3.47 -> 0.902 / 0 / 2.32, spot 0.959 / 0 / 1.18
   // -> 0.958 / 0 / 1.18, fandisk 0.979 / 0.02 / 1.36 -> 0.979 / 0.05 /
@@ -111,7 +111,7 @@ struct MapOptions {
   double edge_weld_tolerance = 4e-3;
   // The shared lines' seeds weld by matching edges too (edge_weld_tolerance),
   // then by corner distance (weld_tolerance) for the copies no edge joined
-  // (quality::extend_weld); false: corner distance alone. Teapot: original
+  // (geometry::extend_weld); false: corner distance alone. Teapot: original
   // neighbour pairs whose copies start different lines 448 -> 225 of 9,400
   // (edges alone 269). With the previous UV chain (docs/tuning.md), one
   // binary, loaded machine (`soupuv map --original`; CLI --seed-weld-corners

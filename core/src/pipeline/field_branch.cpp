@@ -6,9 +6,9 @@
 #include "pipeline/shared_seeds.h"
 #include "soupuv/cache/bytes.h"
 #include "soupuv/proxy/offset_policy.h"
-#include "soupuv/quality/weld.h"
-#include "soupuv/transfer/intersect.h"
-#include "soupuv/transfer/orient.h"
+#include "soupuv/geometry/weld.h"
+#include "soupuv/field/intersect.h"
+#include "soupuv/field/orient.h"
 
 namespace soupuv::pipeline {
 
@@ -118,15 +118,15 @@ void retrace(const field::ChargeResult& charges, const std::vector<field::TraceS
 void trace_shared(const Soup& soup, const field::ChargeResult& charges,
                   const field::TraceOptions& trace_options, const FieldBranchOptions& options,
                   Progress& progress, FieldBranchResult& r) {
-  const quality::Weld weld =
+  const geometry::Weld weld =
       options.seed_edge_weld_tolerance > 0
-          ? quality::extend_weld(soup, quality::weld_by_edges(soup, options.seed_edge_weld_tolerance),
+          ? geometry::extend_weld(soup, geometry::weld_by_edges(soup, options.seed_edge_weld_tolerance),
                                  options.weld_tolerance,
                                  options.seed_edge_fraction > 0 ? options.seed_edge_fraction
                                                                 : options.weld_edge_fraction)
-          : quality::weld_corners(soup, options.weld_tolerance, options.weld_edge_fraction);
-  const auto adjacency = quality::edge_adjacency(weld, soup.triangles.size());
-  const transfer::Orientation orientation = transfer::consistent_orientation(soup, adjacency);
+          : geometry::weld_corners(soup, options.weld_tolerance, options.weld_edge_fraction);
+  const auto adjacency = geometry::edge_adjacency(weld, soup.triangles.size());
+  const field::Orientation orientation = field::consistent_orientation(soup, adjacency);
   SharedSeeds shared = shared_seeds(soup, weld, orientation);
 
   field::TraceStats stats;
@@ -193,16 +193,16 @@ void trace_per_corner(const Soup& soup, const field::ChargeResult& charges,
   field::FieldLines lines = field::trace_field_lines(charges, seeds, trace_options, progress, &stats);
   add_stats(r.trace, stats);
   if (options.orient_sides) {
-    auto adjacency = quality::edge_adjacency(
-        quality::weld_corners(soup, options.weld_tolerance, options.weld_edge_fraction),
+    auto adjacency = geometry::edge_adjacency(
+        geometry::weld_corners(soup, options.weld_tolerance, options.weld_edge_fraction),
         soup.triangles.size());
-    transfer::Orientation orientation = transfer::consistent_orientation(soup, adjacency);
-    transfer::SideChoice sides = transfer::component_sides(soup, orientation, lines);
+    field::Orientation orientation = field::consistent_orientation(soup, adjacency);
+    field::SideChoice sides = field::component_sides(soup, orientation, lines);
     std::vector<field::TraceSeed> again;
     for (size_t i = 0; i < lines.size(); ++i) {
       uint32_t c = lines.corner[i];
       int want = sides.triangle_side[c / 3];
-      if (transfer::line_side(soup, lines, i) != want && seed_of_corner[c] != UINT32_MAX) {
+      if (field::line_side(soup, lines, i) != want && seed_of_corner[c] != UINT32_MAX) {
         field::TraceSeed s = seeds[seed_of_corner[c]];
         s.side = want;
         again.push_back(s);
@@ -215,9 +215,9 @@ void trace_per_corner(const Soup& soup, const field::ChargeResult& charges,
                 {"adjacent_pairs", adjacency.size()},
                 {"retraced_corners", again.size()},
                 {"mixed_side_triangles_before", sides.mixed_triangles_before},
-                {"mixed_side_triangles_after", transfer::mixed_side_triangles(soup, lines)}};
+                {"mixed_side_triangles_after", field::mixed_side_triangles(soup, lines)}};
   } else {
-    size_t mixed = transfer::mixed_side_triangles(soup, lines);
+    size_t mixed = field::mixed_side_triangles(soup, lines);
     r.orient = {{"enabled", false},
                 {"mixed_side_triangles_before", mixed},
                 {"mixed_side_triangles_after", mixed}};
@@ -301,9 +301,9 @@ FieldBranchResult run_field_branch(const Soup& soup, const std::string& soup_has
   } else {
     auto t0 = std::chrono::steady_clock::now();
     const Soup* charged = &soup;
-    transfer::IntersectionRefinement refinement;
+    field::IntersectionRefinement refinement;
     if (options.refine_intersections) {
-      refinement = transfer::refine_intersections(soup, progress);
+      refinement = field::refine_intersections(soup, progress);
       charged = &refinement.soup;
       r.intersections = refinement.diagnostics();
     }

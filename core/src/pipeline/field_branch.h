@@ -29,13 +29,13 @@ struct FieldBranchOptions {
   double weld_tolerance = 0;       // absolute
   double weld_edge_fraction = 0.3;
   // > 0 (absolute): the shared lines' seeds weld by matching edges first
-  // (quality::weld_by_edges at this tolerance), then by corner distance on
-  // top (quality::extend_weld, weld_tolerance / weld_edge_fraction), so that
+  // (geometry::weld_by_edges at this tolerance), then by corner distance on
+  // top (geometry::extend_weld, weld_tolerance / weld_edge_fraction), so that
   // copies of a vertex start one line where position alone is ambiguous.
   // 0: corner distance alone. The orientation uses the same weld.
   double seed_edge_weld_tolerance = 0;
   // ... and the distance weld on top of it then uses this edge fraction
-  // (quality::weld_corners' edge_fraction); 0: weld_edge_fraction.
+  // (geometry::weld_corners' edge_fraction); 0: weld_edge_fraction.
   double seed_edge_fraction = 0;
   int threads = 1;
   // How far from the soup any proxy the pipeline may build can lie

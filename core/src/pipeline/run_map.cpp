@@ -35,21 +35,21 @@ Progress child_of(Progress& parent) {
 
 // The metric's weld: the original's own vertices, else the soup's corners
 // welded by position.
-quality::Weld metric_weld(const Soup& soup, const MapOptions& options) {
-  if (options.original) return quality::weld_corners(*options.original, 0.0);
+geometry::Weld metric_weld(const Soup& soup, const MapOptions& options) {
+  if (options.original) return geometry::weld_corners(*options.original, 0.0);
   const double diag = bounding_box(soup).diagonal();
-  return quality::weld_corners(soup, options.weld_tolerance * diag, options.weld_edge_fraction);
+  return geometry::weld_corners(soup, options.weld_tolerance * diag, options.weld_edge_fraction);
 }
 
-std::vector<quality::AdjacentPair> metric_pairs(const Soup& soup, const MapOptions& options) {
+std::vector<geometry::AdjacentPair> metric_pairs(const Soup& soup, const MapOptions& options) {
   return options.original ? quality::metric_adjacency(soup, options.original, 0)
-                          : quality::edge_adjacency(metric_weld(soup, options), soup.triangles.size());
+                          : geometry::edge_adjacency(metric_weld(soup, options), soup.triangles.size());
 }
 
 // uv.continuity_bound: what a low-distortion atlas can hardly beat (a cube:
 // 11/18); an estimate (continuity_bound.h says where it is exceeded).
 void add_continuity_bound(nlohmann::json& uv, const Soup& soup, const MapOptions& options,
-                          const std::vector<quality::AdjacentPair>& adjacency,
+                          const std::vector<geometry::AdjacentPair>& adjacency,
                           std::vector<std::string>& warnings) {
   const Soup& shape = options.original ? *options.original : soup;
   if (shape.triangles.size() != soup.triangles.size()) return;
@@ -63,7 +63,7 @@ void add_continuity_bound(nlohmann::json& uv, const Soup& soup, const MapOptions
 }
 
 quality::UvMetrics measure(const Soup& soup, const std::vector<std::array<Vec2, 3>>& uvs,
-                           const std::vector<quality::AdjacentPair>& adjacency,
+                           const std::vector<geometry::AdjacentPair>& adjacency,
                            const MapOptions& options, double uv_per_length, double& seconds) {
   auto t0 = Clock::now();
   quality::UvMetricsOptions mo;
@@ -101,7 +101,7 @@ nlohmann::json cache_json(cache::Store* store, size_t hits, size_t misses) {
 }
 
 // Per-triangle flags for the stretch tail's classes (quality/stretch_tail.h).
-quality::TailFlags tail_flags(const Soup& soup, const quality::Weld& weld,
+quality::TailFlags tail_flags(const Soup& soup, const geometry::Weld& weld,
                               const quality::CornerLanding& landed) {
   const size_t n = soup.triangles.size();
   quality::TailFlags f;
@@ -218,19 +218,19 @@ MapResult run_map(const Soup& soup, const MapOptions& options, Progress& progres
   // Transfer: the branches meet.
   auto t_weld = Clock::now();
   bool weld_cached = false;
-  const quality::Weld weld = pipeline::cached_weld(
+  const geometry::Weld weld = pipeline::cached_weld(
       options.cache, hash,
       options.weld_by_edges
           ? pipeline::weld_recipe("edges", {options.edge_weld_tolerance * diag, 1.0})
           : pipeline::weld_recipe("corners", {options.weld_tolerance * diag, options.weld_edge_fraction}),
       [&] {
         return options.weld_by_edges
-                   ? quality::weld_by_edges(soup, options.edge_weld_tolerance * diag)
-                   : quality::weld_corners(soup, options.weld_tolerance * diag, options.weld_edge_fraction);
+                   ? geometry::weld_by_edges(soup, options.edge_weld_tolerance * diag)
+                   : geometry::weld_corners(soup, options.weld_tolerance * diag, options.weld_edge_fraction);
       },
       weld_cached);
-  std::vector<quality::AdjacentPair> neighbours;
-  if (options.chart_fix_neighbours) neighbours = quality::edge_adjacency(weld, soup.triangles.size());
+  std::vector<geometry::AdjacentPair> neighbours;
+  if (options.chart_fix_neighbours) neighbours = geometry::edge_adjacency(weld, soup.triangles.size());
   const auto adjacency = metric_pairs(soup, options);
   const double seconds_weld = since(t_weld);
   const pipeline::UvStageWelds welds{&weld, options.chart_fix_neighbours ? &neighbours : nullptr};

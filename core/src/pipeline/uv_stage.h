@@ -19,13 +19,13 @@
 #include "pipeline/field_branch.h"
 #include "pipeline/proxy_branch.h"
 #include "soupuv/pipeline.h"
-#include "soupuv/quality/weld.h"
+#include "soupuv/geometry/weld.h"
 
 namespace soupuv::pipeline {
 
 struct UvStageWelds {
-  const quality::Weld* weld = nullptr;  // edge weld (§8 neighbours, UV solve)
-  const std::vector<quality::AdjacentPair>* neighbours = nullptr;  // null: §8 per triangle
+  const geometry::Weld* weld = nullptr;  // edge weld (§8 neighbours, UV solve)
+  const std::vector<geometry::AdjacentPair>* neighbours = nullptr;  // null: §8 per triangle
 };
 
 struct UvStage {

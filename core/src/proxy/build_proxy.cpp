@@ -22,7 +22,7 @@
 #include "soupuv/proxy/narrow_band.h"
 #include "soupuv/proxy/offset_policy.h"
 #include "soupuv/proxy/taubin_smooth.h"
-#include "soupuv/proxy/triangle_bvh.h"
+#include "soupuv/geometry/distance_bvh.h"
 
 namespace soupuv::proxy {
 namespace {
@@ -83,7 +83,7 @@ struct Extraction {
   double seconds_grid = 0, seconds_extract = 0, seconds_decimate = 0;
 };
 
-Extraction extract(const TriangleBvh& bvh, const Box3& box, double offset, int resolution,
+Extraction extract(const geometry::DistanceBvh& bvh, const Box3& box, double offset, int resolution,
                    bool cubes, bool prune, double collapse_to, Progress& progress) {
   Extraction ex;
   Vec3 ext = box.extent();
@@ -119,7 +119,7 @@ Extraction extract(const TriangleBvh& bvh, const Box3& box, double offset, int r
 }
 
 // Everything measured on a finished proxy mesh.
-void measure(const TriMesh& mesh, const TriangleBvh& soup_bvh, const std::vector<Vec3>& soup_points,
+void measure(const TriMesh& mesh, const geometry::DistanceBvh& soup_bvh, const std::vector<Vec3>& soup_points,
              double offset, bool check_self_intersections, Progress& progress, ProxyResult& r) {
   Topology topo = check_topology(mesh);
   r.closed = topo.closed;
@@ -141,7 +141,7 @@ void measure(const TriMesh& mesh, const TriangleBvh& soup_bvh, const std::vector
   r.proxy.face_component = comps.face_component;
 
   progress.update("proxy: checks", 0.2);
-  TriangleBvh proxy_bvh(mesh);
+  geometry::DistanceBvh proxy_bvh(mesh);
   size_t outside = 0;
 #pragma omp parallel for schedule(dynamic, 1024) reduction(+ : outside)
   for (long i = 0; i < long(soup_points.size()); ++i) outside += !proxy_bvh.contains(soup_points[i]);
@@ -237,7 +237,7 @@ ProxyResult build_proxy(const Soup& soup, const ProxyOptions& options, Progress&
   if (!(diagonal > 0)) throw Error(ErrorCode::invalid_input, "proxy: the soup spans no volume (a single point)");
   Vec3 ext = box.extent();
   const double longest = std::max({ext.x, ext.y, ext.z});
-  TriangleBvh soup_bvh(soup);
+  geometry::DistanceBvh soup_bvh(soup);
   const std::vector<Vec3> soup_points = used_positions(soup);
 
   std::vector<double> offsets;  // absolute offsets to try, tightest first

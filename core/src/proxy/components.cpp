@@ -3,7 +3,7 @@
 
 #include <algorithm>
 #include <memory>
-#include "soupuv/proxy/triangle_bvh.h"
+#include "soupuv/geometry/distance_bvh.h"
 #include "soupuv/union_find.h"
 
 namespace soupuv::proxy {
@@ -56,11 +56,11 @@ Components find_components(const TriMesh& mesh) {
   // A component is inner when one of its vertices is inside another component
   // whose box contains its box (cheap rejection first, paper §5).
   out.inner.assign(out.count, 0);
-  std::vector<std::unique_ptr<TriangleBvh>> bvh(out.count);
+  std::vector<std::unique_ptr<geometry::DistanceBvh>> bvh(out.count);
   for (int a = 0; a < out.count; ++a) {
     for (int b = 0; b < out.count && !out.inner[a]; ++b) {
       if (a == b || !box_inside(boxes[a], boxes[b])) continue;
-      if (!bvh[b]) bvh[b] = std::make_unique<TriangleBvh>(tris[b]);
+      if (!bvh[b]) bvh[b] = std::make_unique<geometry::DistanceBvh>(tris[b]);
       out.inner[a] = bvh[b]->contains(mesh.vertices[sample_vertex[a]]);
     }
   }

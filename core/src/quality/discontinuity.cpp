@@ -35,14 +35,14 @@ nlohmann::json DiscontinuityBreakdown::to_json() const {
 }
 
 DiscontinuityBreakdown discontinuity_breakdown(const Soup& soup, const CornerUvs& uvs,
-                                               const std::vector<AdjacentPair>& adjacency,
+                                               const std::vector<geometry::AdjacentPair>& adjacency,
                                                const CornerLanding& landing,
                                                int texture_size, double uv_per_length) {
   DiscontinuityBreakdown b;
   b.pairs = adjacency.size();
   const double texel = 1.0 / texture_size;
   const bool know_lines = landing.line.size() == 3 * uvs.size();
-  for (const AdjacentPair& p : adjacency) {
+  for (const geometry::AdjacentPair& p : adjacency) {
     bool apart = false, missed = false, split = false, corrected = false,
          two_lines = false;
     for (int i = 0; i < 2; ++i) {

@@ -24,7 +24,7 @@ bool usable(Vec2 p) {
 }  // namespace
 
 UvMetrics uv_metrics(const Soup& soup, const CornerUvs& uvs,
-                     const std::vector<AdjacentPair>& adjacency, const UvMetricsOptions& options) {
+                     const std::vector<geometry::AdjacentPair>& adjacency, const UvMetricsOptions& options) {
   if (uvs.size() != soup.triangles.size())
     throw Error(ErrorCode::internal, "uv_metrics: one UV triple per triangle expected");
   UvMetrics m;
@@ -106,7 +106,7 @@ UvMetrics uv_metrics(const Soup& soup, const CornerUvs& uvs,
   const double texel = 1.0 / options.texture_size;
   UnionFind uf(n);
   size_t ok = 0, ok_plain = 0;
-  for (const AdjacentPair& p : adjacency) {
+  for (const geometry::AdjacentPair& p : adjacency) {
     bool cont = true, plain = true;
     for (int i = 0; i < 2; ++i) {
       Vec2 ua = uvs[p.a][p.a_corner[i]], ub = uvs[p.b][p.b_corner[i]];
@@ -154,15 +154,15 @@ double stretch_l2_subset(const Soup& soup, const CornerUvs& uvs,
   return weight > 0 ? std::sqrt(sum / weight) * scale : 0;
 }
 
-std::vector<AdjacentPair> metric_adjacency(const Soup& soup, const Soup* original,
+std::vector<geometry::AdjacentPair> metric_adjacency(const Soup& soup, const Soup* original,
                                            double weld_tolerance) {
   if (original) {
     if (original->triangles.size() != soup.triangles.size())
       throw Error(ErrorCode::invalid_input,
                   "the original mesh for continuity has a different triangle count");
-    return edge_adjacency(weld_corners(*original, 0.0), original->triangles.size());
+    return geometry::edge_adjacency(geometry::weld_corners(*original, 0.0), original->triangles.size());
   }
-  return edge_adjacency(weld_corners(soup, weld_tolerance), soup.triangles.size());
+  return geometry::edge_adjacency(geometry::weld_corners(soup, weld_tolerance), soup.triangles.size());
 }
 
 nlohmann::json to_json(const UvMetrics& m) {

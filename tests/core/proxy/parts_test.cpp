@@ -13,7 +13,7 @@
 #include "soupuv/proxy/narrow_band.h"
 #include "soupuv/proxy/taubin_smooth.h"
 #include "soupuv/geometry/closest_point.h"
-#include "soupuv/proxy/triangle_bvh.h"
+#include "soupuv/geometry/distance_bvh.h"
 #include "testing/shapes.h"
 
 namespace soupuv::proxy {
@@ -41,7 +41,7 @@ double winding_number(const TriMesh& m, Vec3 p) {
 
 TEST(ProxyParts, BvhDistanceMatchesBruteForce) {
   Soup soup = shapes::to_soup(shapes::torus(1.0, 0.3, 24, 12), 0.01, 3);
-  TriangleBvh bvh(soup);
+  geometry::DistanceBvh bvh(soup);
   std::mt19937 rng(7);
   std::uniform_real_distribution<double> u(-1.6, 1.6);
   for (int i = 0; i < 400; ++i) {
@@ -71,7 +71,7 @@ TEST(ProxyParts, BvhDistanceMatchesBruteForce) {
 // restricted distance equals brute force there (band semantics included).
 TEST(ProxyParts, GatheredCandidatesGiveExactDistancesInTheirBox) {
   Soup soup = shapes::to_soup(shapes::torus(1.0, 0.3, 24, 12), 0.01, 3);
-  TriangleBvh bvh(soup);
+  geometry::DistanceBvh bvh(soup);
   std::mt19937 rng(11);
   std::uniform_real_distribution<double> u(-1.6, 1.6), s(0.01, 0.4), t(0.0, 1.0);
   size_t total = 0;
@@ -79,7 +79,7 @@ TEST(ProxyParts, GatheredCandidatesGiveExactDistancesInTheirBox) {
     Vec3 c{u(rng), u(rng), u(rng) * 0.5};
     double half = s(rng);
     Box3 box{c - Vec3{half, half, half}, c + Vec3{half, half, half}};
-    CandidateList list;
+    geometry::CandidateList list;
     bvh.gather(box, bvh.distance(c) + std::sqrt(3.0) * half, list);
     total += list.size();
     EXPECT_LT(list.size(), bvh.size());
@@ -101,12 +101,12 @@ TEST(ProxyParts, GatheredCandidatesGiveExactDistancesInTheirBox) {
   EXPECT_GT(total, 0u);
 }
 
-// A parent's list narrowed to a child box (TriangleBvh::narrow, what the
+// A parent's list narrowed to a child box (geometry::DistanceBvh::narrow, what the
 // narrow band does for the cells under one grandparent) is as good as a
 // list gathered for the child itself: exact distances everywhere in the child.
 TEST(ProxyParts, NarrowedCandidatesGiveExactDistancesInTheChildBox) {
   Soup soup = shapes::to_soup(shapes::torus(1.0, 0.3, 24, 12), 0.01, 3);
-  TriangleBvh bvh(soup);
+  geometry::DistanceBvh bvh(soup);
   std::mt19937 rng(13);
   std::uniform_real_distribution<double> u(-1.6, 1.6), s(0.02, 0.3), t(0.0, 1.0);
   size_t parent_total = 0, child_total = 0;
@@ -114,7 +114,7 @@ TEST(ProxyParts, NarrowedCandidatesGiveExactDistancesInTheChildBox) {
     Vec3 c{u(rng), u(rng), u(rng) * 0.5};
     double half = s(rng);
     Box3 parent{c - Vec3{half, half, half}, c + Vec3{half, half, half}};
-    CandidateList parent_list, child_list;
+    geometry::CandidateList parent_list, child_list;
     bvh.gather(parent, bvh.distance(c) + std::sqrt(3.0) * half, parent_list);
     // One octant of the parent, with its own (smaller) radius.
     Vec3 lo{t(rng) < 0.5 ? parent.lo.x : c.x, t(rng) < 0.5 ? parent.lo.y : c.y, t(rng) < 0.5 ? parent.lo.z : c.z};
@@ -135,7 +135,7 @@ TEST(ProxyParts, NarrowedCandidatesGiveExactDistancesInTheChildBox) {
 
 TEST(ProxyParts, BvhContainsMatchesWindingNumber) {
   TriMesh torus = shapes::torus(1.0, 0.4, 32, 16);
-  TriangleBvh bvh(torus);
+  geometry::DistanceBvh bvh(torus);
   std::mt19937 rng(11);
   std::uniform_real_distribution<double> u(-1.5, 1.5);
   int inside = 0;
@@ -193,7 +193,7 @@ TEST(ProxyParts, TopologyOfKnownMeshes) {
 
 TEST(ProxyParts, NarrowBandKeepsEveryCrossingCellOfADenseGrid) {
   Soup soup = shapes::to_soup(shapes::cube(1.0, 2), 0.002, 5);
-  TriangleBvh bvh(soup);
+  geometry::DistanceBvh bvh(soup);
   Box3 box = bounding_box(soup);
   double offset = 0.08, cell = 1.0 / 40;
   // Without pruning: the closed cube's inner shell is in the band too.
@@ -231,7 +231,7 @@ TEST(ProxyParts, NarrowBandKeepsEveryCrossingCellOfADenseGrid) {
 // dense twin's flood fill from the border (through f > 0 corners) touches.
 TEST(ProxyParts, PrunedNarrowBandKeepsTheOuterShellOnly) {
   Soup soup = shapes::to_soup(shapes::cube(1.0, 2), 0.002, 5);
-  TriangleBvh bvh(soup);
+  geometry::DistanceBvh bvh(soup);
   Box3 box = bounding_box(soup);
   double offset = 0.08, cell = 1.0 / 40;
   NarrowBand full = build_narrow_band(bvh, box, offset, cell, Progress::none(), false);
@@ -280,7 +280,7 @@ TEST(ProxyParts, PrunedNarrowBandKeepsTheOuterShellOnly) {
 // 8 (the volume).
 TEST(ProxyParts, NarrowBandGrowsWithTheSurfaceNotTheVolume) {
   Soup soup = shapes::to_soup(shapes::icosphere(1.0, 3), 1e-3, 2);
-  TriangleBvh bvh(soup);
+  geometry::DistanceBvh bvh(soup);
   Box3 box = bounding_box(soup);
   // Unpruned: pruning the inner shell kicks in at the finer cell only.
   NarrowBand coarse = build_narrow_band(bvh, box, 0.03, 0.02, Progress::none(), false);

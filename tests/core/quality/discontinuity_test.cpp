@@ -34,7 +34,7 @@ TEST(Discontinuity, EveryCutPairGetsOneCause) {
   CornerUvs uv(n);
   for (size_t t = 0; t < n; ++t)
     for (int k = 0; k < 3; ++k) uv[t][k] = {0.1 + 0.1 * s.corner(t, k).x, 0.1 + 0.1 * s.corner(t, k).y};
-  auto pairs = edge_adjacency(weld_corners(s, 0.0), n);
+  auto pairs = geometry::edge_adjacency(geometry::weld_corners(s, 0.0), n);
   ASSERT_EQ(pairs.size(), 7u);
   CornerLanding land;
   land.missed.assign(3 * n, 0);
@@ -71,8 +71,8 @@ TEST(Discontinuity, DivergedPairsSayWhy) {
   CornerUvs uv(n);
   for (size_t t = 0; t < n; ++t)
     for (int k = 0; k < 3; ++k) uv[t][k] = {0.1 + 0.1 * s.corner(t, k).x, 0.1 + 0.1 * s.corner(t, k).y};
-  const Weld weld = weld_corners(s, 0.0);
-  auto pairs = edge_adjacency(weld, n);
+  const geometry::Weld weld = geometry::weld_corners(s, 0.0);
+  auto pairs = geometry::edge_adjacency(weld, n);
   CornerLanding land;
   land.missed.assign(3 * n, 0);
   land.first_chart.assign(3 * n, 0);
@@ -102,7 +102,7 @@ TEST(Discontinuity, WorstStretchTrianglesGetACause) {
   for (size_t t = 0; t < n; ++t)
     for (int k = 0; k < 3; ++k) uv[t][k] = {0.1 + 0.1 * s.corner(t, k).x, 0.1 + 0.1 * s.corner(t, k).y};
   uv[6][2].y = 0.101;  // triangle 6's third corner nearly onto its first edge
-  auto pairs = edge_adjacency(weld_corners(s, 0.0), n);
+  auto pairs = geometry::edge_adjacency(geometry::weld_corners(s, 0.0), n);
   CornerLanding land;
   land.missed.assign(3 * n, 0);
   land.first_chart.assign(3 * n, 0);

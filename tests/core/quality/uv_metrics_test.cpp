@@ -3,7 +3,7 @@
 #include <random>
 
 #include "soupuv/quality/uv_metrics.h"
-#include "soupuv/quality/weld.h"
+#include "soupuv/geometry/weld.h"
 #include "testing/shapes.h"
 
 using namespace soupuv;
@@ -40,7 +40,7 @@ CornerUvs planar_uvs(const Soup& s, double scale) {
 TEST(Weld, MatchesBruteForce) {
   Soup s = grid_soup(12, 1e-3);
   const double tol = 4e-3;
-  Weld w = weld_corners(s, tol);
+  geometry::Weld w = geometry::weld_corners(s, tol);
   // Slow twin: O(n^2) pairs within the tolerance, closed transitively.
   size_t c = s.triangles.size() * 3;
   std::vector<uint32_t> label(c);
@@ -64,7 +64,7 @@ TEST(Weld, MatchesBruteForce) {
 TEST(Weld, AdjacencyOfGridIsInteriorEdges) {
   const int n = 6;
   Soup s = grid_soup(n, 0);
-  auto pairs = edge_adjacency(weld_corners(s, 0.0), s.triangles.size());
+  auto pairs = geometry::edge_adjacency(geometry::weld_corners(s, 0.0), s.triangles.size());
   // Interior edges of an n x n grid split into triangles: diagonals n^2 plus
   // 2 n (n - 1) grid-line edges.
   EXPECT_EQ(pairs.size(), size_t(n * n + 2 * n * (n - 1)));
@@ -186,7 +186,7 @@ TEST(Weld, NeverCollapsesATriangle) {
                  {0, 0, 0}, {e, 0, 0}, {0.5 * e, -e, 0}};  // its neighbour (shares an edge)
   s.triangles = {{0, 1, 2}, {3, 4, 5}};
   s.origins.resize(2);
-  Weld w = weld_corners(s, 10 * e);
+  geometry::Weld w = geometry::weld_corners(s, 10 * e);
   EXPECT_NE(w.corner_vertex[0], w.corner_vertex[1]);
   EXPECT_NE(w.corner_vertex[0], w.corner_vertex[2]);
   EXPECT_NE(w.corner_vertex[1], w.corner_vertex[2]);

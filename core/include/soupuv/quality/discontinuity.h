@@ -25,7 +25,7 @@
 #include <nlohmann/json.hpp>
 
 #include "soupuv/quality/uv_metrics.h"
-#include "soupuv/quality/weld.h"
+#include "soupuv/geometry/weld.h"
 #include "soupuv/soup.h"
 
 namespace soupuv::quality {
@@ -62,7 +62,7 @@ struct DiscontinuityBreakdown {
 };
 
 DiscontinuityBreakdown discontinuity_breakdown(const Soup& soup, const CornerUvs& uvs,
-                                               const std::vector<AdjacentPair>& adjacency,
+                                               const std::vector<geometry::AdjacentPair>& adjacency,
                                                const CornerLanding& landing,
                                                int texture_size, double uv_per_length);
 

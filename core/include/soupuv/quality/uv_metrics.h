@@ -24,7 +24,7 @@
 
 #include <nlohmann/json.hpp>
 
-#include "soupuv/quality/weld.h"
+#include "soupuv/geometry/weld.h"
 #include "soupuv/soup.h"
 
 namespace soupuv::quality {
@@ -64,7 +64,7 @@ struct UvMetrics {
 };
 
 UvMetrics uv_metrics(const Soup& soup, const CornerUvs& uvs,
-                     const std::vector<AdjacentPair>& adjacency,
+                     const std::vector<geometry::AdjacentPair>& adjacency,
                      const UvMetricsOptions& options = {});
 
 // Area-weighted L2 stretch over the triangles with include[t] != 0, at a
@@ -76,7 +76,7 @@ double stretch_l2_subset(const Soup& soup, const CornerUvs& uvs,
 // The adjacency for metrics: exact from `original` (a welded mesh with the
 // same triangle order as `soup`), else by welding the soup within
 // `weld_tolerance` (absolute).
-std::vector<AdjacentPair> metric_adjacency(const Soup& soup, const Soup* original,
+std::vector<geometry::AdjacentPair> metric_adjacency(const Soup& soup, const Soup* original,
                                            double weld_tolerance);
 
 // Diagnostics fields: coverage, flipped_fraction, stretch_l2, continuity, ...

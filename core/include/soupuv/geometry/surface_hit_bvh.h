@@ -1,5 +1,8 @@
-// A bounding volume hierarchy over the triangles of a mesh (the proxy, or one
-// chart of it): first hit of a segment or ray, and the closest point.
+// SurfaceHitBvh: a bounding volume hierarchy over the triangles of a mesh
+// (the proxy, or one chart of it, or a soup as a mesh): first hit of a segment
+// or ray, the closest surface point (face and barycentrics: what the transfer
+// needs to land a field line), and the faces whose boxes overlap a box. For
+// distances and inside tests on a soup see DistanceBvh (distance_bvh.h).
 //
 // Input : mesh vertices and faces, optionally a subset of face ids.
 // Output: queries returning the face id, barycentric coordinates and point.
@@ -14,7 +17,7 @@
 #include "soupuv/mesh.h"
 #include "soupuv/vec.h"
 
-namespace soupuv::transfer {
+namespace soupuv::geometry {
 
 struct SurfacePoint {
   int face = -1;                   // -1: nothing found
@@ -24,13 +27,13 @@ struct SurfacePoint {
   bool found() const { return face >= 0; }
 };
 
-class TriangleBvh {
+class SurfaceHitBvh {
  public:
-  TriangleBvh() = default;
+  SurfaceHitBvh() = default;
   // All faces of `mesh`; the mesh must outlive the BVH.
-  explicit TriangleBvh(const TriMesh& mesh);
+  explicit SurfaceHitBvh(const TriMesh& mesh);
   // Only `faces` (ids into mesh.faces).
-  TriangleBvh(const TriMesh& mesh, std::vector<int> faces);
+  SurfaceHitBvh(const TriMesh& mesh, std::vector<int> faces);
 
   // First intersection of the segment a + t (b - a), t in [0, 1], with any
   // face, from either side. t of the result is the segment parameter.
@@ -76,4 +79,4 @@ class TriangleBvh {
   std::vector<Node> nodes_;
 };
 
-}  // namespace soupuv::transfer
+}  // namespace soupuv::geometry

@@ -1,6 +1,6 @@
 // CandidateList: the soup triangles that can be the nearest one to some point
 // of a box (nearest-candidate culling), gathered once per box by
-// TriangleBvh::gather and then scanned by TriangleBvh::distance_among for
+// DistanceBvh::gather and then scanned by DistanceBvh::distance_among for
 // every grid point in the box.
 //
 // Layout: the candidates' bounding boxes in float, relative to the box
@@ -24,7 +24,7 @@
 
 #include "soupuv/vec.h"
 
-namespace soupuv::proxy {
+namespace soupuv::geometry {
 
 struct CandidateList {
   static constexpr size_t kBlock = 16;
@@ -47,4 +47,4 @@ struct CandidateList {
   std::array<std::vector<float>*, 10> arrays() { return {&lo_x, &lo_y, &lo_z, &hi_x, &hi_y, &hi_z, &n_x, &n_y, &n_z, &w}; }
 };
 
-}  // namespace soupuv::proxy
+}  // namespace soupuv::geometry

@@ -1,6 +1,10 @@
-// TriangleBvh: a bounding volume hierarchy over triangles for the two queries
-// the proxy needs — distance from a point to the nearest triangle (the offset
-// field d(x), paper §5) and ray parity (is a point inside a closed mesh).
+// DistanceBvh: a bounding volume hierarchy over triangles for distance and
+// inside queries — the distance from a point to the nearest triangle (the
+// proxy's offset field d(x), paper §5) and ray parity (is a point inside a
+// closed mesh). Its sibling SurfaceHitBvh (surface_hit_bvh.h) answers where a
+// segment first hits an indexed mesh and its closest surface point, for
+// landing field lines: the two trees keep different data (corner copies and
+// float candidate lists here, face ids into a mesh there) for their hot loops.
 //
 // Input:  triangles as corner positions (a soup or an indexed mesh).
 // Output: queries in O(log n) expected time; build is O(n log n) (median split).
@@ -13,20 +17,20 @@
 #include <vector>
 
 #include "soupuv/mesh.h"
-#include "soupuv/proxy/candidate_list.h"
+#include "soupuv/geometry/candidate_list.h"
 #include "soupuv/soup.h"
 #include "soupuv/vec.h"
 
-namespace soupuv::proxy {
+namespace soupuv::geometry {
 
 // What a ray from a point says about being inside a closed surface.
 enum class RayParity { inside, outside, uncertain };
 
-class TriangleBvh {
+class DistanceBvh {
  public:
-  explicit TriangleBvh(const Soup& soup);
-  explicit TriangleBvh(const TriMesh& mesh);
-  explicit TriangleBvh(std::vector<std::array<Vec3, 3>> triangles);
+  explicit DistanceBvh(const Soup& soup);
+  explicit DistanceBvh(const TriMesh& mesh);
+  explicit DistanceBvh(std::vector<std::array<Vec3, 3>> triangles);
 
   size_t size() const { return tris_.size(); }
   Box3 bounds() const;
@@ -84,4 +88,4 @@ class TriangleBvh {
   std::vector<Box3> tri_boxes_;  // per triangle, in tris_ order (cheap lower bounds)
 };
 
-}  // namespace soupuv::proxy
+}  // namespace soupuv::geometry

@@ -28,7 +28,7 @@
 #include "soupuv/progress.h"
 #include "soupuv/soup.h"
 
-namespace soupuv::transfer {
+namespace soupuv::field {
 
 struct IntersectionRefinement {
   Soup soup;                        // refined soup (uncut triangles unchanged)
@@ -41,4 +41,4 @@ struct IntersectionRefinement {
 IntersectionRefinement refine_intersections(const Soup& soup, Progress& progress,
                                             double min_depth = 0);
 
-}  // namespace soupuv::transfer
+}  // namespace soupuv::field

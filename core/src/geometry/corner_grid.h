@@ -17,7 +17,7 @@
 
 #include "soupuv/soup.h"
 
-namespace soupuv::quality {
+namespace soupuv::geometry {
 
 class CornerGrid {
  public:
@@ -57,4 +57,4 @@ class CornerGrid {
   std::unordered_map<uint64_t, std::vector<uint32_t>> buckets_;
 };
 
-}  // namespace soupuv::quality
+}  // namespace soupuv::geometry

@@ -15,7 +15,7 @@
 // Closed parts keep their outward side (|E| is near zero inside, the vote is
 // clear); plates get one side for the whole plate.
 //
-// Input : soup, edge adjacency (quality::edge_adjacency of a weld).
+// Input : soup, edge adjacency (geometry::edge_adjacency of a weld).
 // Output: per triangle a flip (+1 keep winding, -1 reversed) and component id;
 //         per component the traced side (+1 along the consistent normal).
 #pragma once
@@ -24,10 +24,10 @@
 #include <vector>
 
 #include "soupuv/field/field_lines.h"
-#include "soupuv/quality/weld.h"
+#include "soupuv/geometry/weld.h"
 #include "soupuv/soup.h"
 
-namespace soupuv::transfer {
+namespace soupuv::field {
 
 struct Orientation {
   std::vector<int8_t> flip;          // per triangle: +1 keep input winding, -1 reverse
@@ -38,7 +38,7 @@ struct Orientation {
 };
 
 Orientation consistent_orientation(const Soup& soup,
-                                   const std::vector<quality::AdjacentPair>& adjacency);
+                                   const std::vector<geometry::AdjacentPair>& adjacency);
 
 // Side (+1 / -1) a field line left its corner on, relative to the triangle's
 // input-winding normal: the sign of (p - corner) . normal for the first line
@@ -58,4 +58,4 @@ SideChoice component_sides(const Soup& soup, const Orientation& orientation,
 // Triangles whose traced corners left on different sides (lines by corner).
 size_t mixed_side_triangles(const Soup& soup, const field::FieldLines& lines);
 
-}  // namespace soupuv::transfer
+}  // namespace soupuv::field

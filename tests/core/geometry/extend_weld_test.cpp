@@ -1,23 +1,23 @@
-// extend_weld (quality/weld.cpp): a corner weld that starts from the groups of
+// geometry::extend_weld (geometry/weld.cpp): a corner weld that starts from the groups of
 // another weld. Against its slow twin (every corner pair compared, no grid),
-// and the rules it shares with weld_corners: start groups are never split,
+// and the rules it shares with geometry::weld_corners: start groups are never split,
 // two corners of one triangle never joined.
 #include <gtest/gtest.h>
 
 #include <algorithm>
 
-#include "soupuv/quality/weld.h"
+#include "soupuv/geometry/weld.h"
 #include "testing/shapes.h"
 #include "soupuv/union_find.h"
 
 using namespace soupuv;
-using namespace soupuv::quality;
+using namespace soupuv::geometry;
 
 namespace {
 
 // The slow twin: the start's groups, then all corner pairs within the
 // tolerance, nearest first, each joined unless the two sets share a triangle.
-std::vector<uint32_t> slow_extend(const Soup& soup, const Weld& start, double tolerance) {
+std::vector<uint32_t> slow_extend(const Soup& soup, const geometry::Weld& start, double tolerance) {
   const uint32_t corners = uint32_t(3 * soup.triangles.size());
   UnionFind uf(corners);
   for (uint32_t a = 0; a < corners; ++a)
@@ -46,7 +46,7 @@ std::vector<uint32_t> slow_extend(const Soup& soup, const Weld& start, double to
   return root;
 }
 
-void expect_same_partition(const Weld& w, const std::vector<uint32_t>& root) {
+void expect_same_partition(const geometry::Weld& w, const std::vector<uint32_t>& root) {
   const size_t corners = root.size();
   for (size_t a = 0; a < corners; ++a)
     for (size_t b = a + 1; b < corners; ++b)
@@ -61,9 +61,9 @@ void expect_same_partition(const Weld& w, const std::vector<uint32_t>& root) {
 TEST(ExtendWeld, MatchesItsSlowTwinOnANoisySphere) {
   const Soup soup = shapes::to_soup(shapes::icosphere(1.0, 1), 2e-2, 5);  // 80 triangles
   const double diag = bounding_box(soup).diagonal();
-  const Weld start = weld_by_edges(soup, 0.05 * diag);
+  const geometry::Weld start = geometry::weld_by_edges(soup, 0.05 * diag);
   const double tolerance = 0.04 * diag;
-  const Weld w = extend_weld(soup, start, tolerance);
+  const geometry::Weld w = geometry::extend_weld(soup, start, tolerance);
   expect_same_partition(w, slow_extend(soup, start, tolerance));
   // The start's groups survive, and the extension joined more.
   for (size_t a = 0; a < start.corner_vertex.size(); ++a)
@@ -73,18 +73,18 @@ TEST(ExtendWeld, MatchesItsSlowTwinOnANoisySphere) {
       }
     }
   EXPECT_LT(w.vertex_count, start.vertex_count);
-  EXPECT_LT(w.vertex_count, weld_corners(soup, tolerance).vertex_count + 1);
+  EXPECT_LT(w.vertex_count, geometry::weld_corners(soup, tolerance).vertex_count + 1);
 }
 
-// Starting from nothing it is weld_corners.
+// Starting from nothing it is geometry::weld_corners.
 TEST(ExtendWeld, FromSingletonsIsTheCornerWeld) {
   const Soup soup = shapes::to_soup(shapes::icosphere(1.0, 2), 2e-3, 7);
   const double diag = bounding_box(soup).diagonal();
-  Weld singletons;
+  geometry::Weld singletons;
   for (uint32_t c = 0; c < 3 * soup.triangles.size(); ++c) singletons.corner_vertex.push_back(c);
   singletons.vertex_count = uint32_t(singletons.corner_vertex.size());
-  const Weld a = extend_weld(soup, singletons, 5e-3 * diag, 1.0);
-  const Weld b = weld_corners(soup, 5e-3 * diag, 1.0);
+  const geometry::Weld a = geometry::extend_weld(soup, singletons, 5e-3 * diag, 1.0);
+  const geometry::Weld b = geometry::weld_corners(soup, 5e-3 * diag, 1.0);
   EXPECT_EQ(a.corner_vertex, b.corner_vertex);
   EXPECT_EQ(a.vertex_count, 162u);  // the icosphere's vertices
 }
@@ -98,10 +98,10 @@ TEST(ExtendWeld, NeverCollapsesATriangle) {
                  {0, 0, 0}, {e, 0, 0}, {0.5 * e, -e, 0}};  // its neighbour
   s.triangles = {{0, 1, 2}, {3, 4, 5}};
   s.origins.resize(2);
-  Weld start;
+  geometry::Weld start;
   start.corner_vertex = {0, 1, 2, 0, 3, 4};  // corner 3 is corner 0's copy
   start.vertex_count = 5;
-  const Weld w = extend_weld(s, start, 10 * e);
+  const geometry::Weld w = geometry::extend_weld(s, start, 10 * e);
   for (int t = 0; t < 2; ++t) {
     EXPECT_NE(w.corner_vertex[3 * t], w.corner_vertex[3 * t + 1]);
     EXPECT_NE(w.corner_vertex[3 * t], w.corner_vertex[3 * t + 2]);

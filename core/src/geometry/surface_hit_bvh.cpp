@@ -1,4 +1,4 @@
-#include "soupuv/transfer/triangle_bvh.h"
+#include "soupuv/geometry/surface_hit_bvh.h"
 
 #include <algorithm>
 #include <cmath>
@@ -7,7 +7,7 @@
 #include "soupuv/geometry/closest_point.h"
 #include "soupuv/geometry/segment_triangle.h"
 
-namespace soupuv::transfer {
+namespace soupuv::geometry {
 
 namespace {
 
@@ -39,18 +39,18 @@ double box_distance2(const Box3& box, Vec3 p) {
 
 }  // namespace
 
-TriangleBvh::TriangleBvh(const TriMesh& mesh) : mesh_(&mesh) {
+SurfaceHitBvh::SurfaceHitBvh(const TriMesh& mesh) : mesh_(&mesh) {
   faces_.resize(mesh.faces.size());
   std::iota(faces_.begin(), faces_.end(), 0);
   build();
 }
 
-TriangleBvh::TriangleBvh(const TriMesh& mesh, std::vector<int> faces)
+SurfaceHitBvh::SurfaceHitBvh(const TriMesh& mesh, std::vector<int> faces)
     : mesh_(&mesh), faces_(std::move(faces)) {
   build();
 }
 
-void TriangleBvh::build() {
+void SurfaceHitBvh::build() {
   nodes_.clear();
   if (faces_.empty()) return;
   std::vector<Vec3> centroids(mesh_->faces.size());
@@ -62,7 +62,7 @@ void TriangleBvh::build() {
   build_node(0, uint32_t(faces_.size()), centroids);
 }
 
-uint32_t TriangleBvh::build_node(uint32_t first, uint32_t count, std::vector<Vec3>& centroids) {
+uint32_t SurfaceHitBvh::build_node(uint32_t first, uint32_t count, std::vector<Vec3>& centroids) {
   uint32_t id = uint32_t(nodes_.size());
   nodes_.push_back({});
   Box3 box, cbox;
@@ -89,7 +89,7 @@ uint32_t TriangleBvh::build_node(uint32_t first, uint32_t count, std::vector<Vec
   return id;
 }
 
-SurfacePoint TriangleBvh::first_hit(Vec3 a, Vec3 b) const {
+SurfacePoint SurfaceHitBvh::first_hit(Vec3 a, Vec3 b) const {
   SurfacePoint best;
   if (nodes_.empty()) return best;
   Vec3 d = b - a;
@@ -124,7 +124,7 @@ SurfacePoint TriangleBvh::first_hit(Vec3 a, Vec3 b) const {
   return best;
 }
 
-SurfacePoint TriangleBvh::closest_point(Vec3 p) const {
+SurfacePoint SurfaceHitBvh::closest_point(Vec3 p) const {
   SurfacePoint best;
   if (nodes_.empty()) return best;
   double best_d2 = INFINITY;
@@ -158,4 +158,4 @@ SurfacePoint TriangleBvh::closest_point(Vec3 p) const {
   return best;
 }
 
-}  // namespace soupuv::transfer
+}  // namespace soupuv::geometry

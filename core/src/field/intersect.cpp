@@ -1,13 +1,13 @@
-#include "soupuv/transfer/intersect.h"
+#include "soupuv/field/intersect.h"
 
 #include <algorithm>
 #include <cmath>
 
 #include "soupuv/geometry/plane.h"
 #include "soupuv/geometry/triangle_triangle.h"
-#include "soupuv/transfer/triangle_bvh.h"
+#include "soupuv/geometry/surface_hit_bvh.h"
 
-namespace soupuv::transfer {
+namespace soupuv::field {
 
 namespace {
 
@@ -55,7 +55,7 @@ IntersectionRefinement refine_intersections(const Soup& soup, Progress& progress
     for (int k = 0; k < 3; ++k) mesh.vertices.push_back(soup.corner(t, k));
     mesh.faces.push_back({int(3 * t), int(3 * t + 1), int(3 * t + 2)});
   }
-  TriangleBvh bvh(mesh);
+  geometry::SurfaceHitBvh bvh(mesh);
 
   // Cutters of each triangle: the planes that pass deeply through it.
   std::vector<std::vector<uint32_t>> cutters(n);
@@ -122,4 +122,4 @@ IntersectionRefinement refine_intersections(const Soup& soup, Progress& progress
   return r;
 }
 
-}  // namespace soupuv::transfer
+}  // namespace soupuv::field

@@ -1,16 +1,15 @@
-// TriangleBvh: median-split BVH, point distance with a band early-out, ray
-// parity. See soupuv/proxy/triangle_bvh.h.
-#include "soupuv/proxy/triangle_bvh.h"
+// DistanceBvh: median-split BVH, point distance with a band early-out, ray
+// parity. See soupuv/geometry/distance_bvh.h.
+#include "soupuv/geometry/distance_bvh.h"
 
 #include <algorithm>
 #include <cmath>
 
 #include "soupuv/geometry/closest_point.h"
 
-namespace soupuv::proxy {
+namespace soupuv::geometry {
 namespace {
 
-using geometry::point_triangle_distance2;
 
 constexpr uint32_t kLeafSize = 4;
 
@@ -85,28 +84,28 @@ bool warm_start(const std::vector<std::array<Vec3, 3>>& tris, Vec3 p, double lo2
 
 }  // namespace
 
-TriangleBvh::TriangleBvh(const Soup& soup) {
+DistanceBvh::DistanceBvh(const Soup& soup) {
   tris_.reserve(soup.triangles.size());
   for (const Tri& t : soup.triangles)
     tris_.push_back({soup.positions[t[0]], soup.positions[t[1]], soup.positions[t[2]]});
   build();
 }
 
-TriangleBvh::TriangleBvh(const TriMesh& mesh) {
+DistanceBvh::DistanceBvh(const TriMesh& mesh) {
   tris_.reserve(mesh.faces.size());
   for (const auto& f : mesh.faces)
     tris_.push_back({mesh.vertices[f[0]], mesh.vertices[f[1]], mesh.vertices[f[2]]});
   build();
 }
 
-TriangleBvh::TriangleBvh(std::vector<std::array<Vec3, 3>> triangles)
+DistanceBvh::DistanceBvh(std::vector<std::array<Vec3, 3>> triangles)
     : tris_(std::move(triangles)) {
   build();
 }
 
-Box3 TriangleBvh::bounds() const { return nodes_.empty() ? Box3{} : nodes_[0].box; }
+Box3 DistanceBvh::bounds() const { return nodes_.empty() ? Box3{} : nodes_[0].box; }
 
-void TriangleBvh::build() {
+void DistanceBvh::build() {
   nodes_.clear();
   if (tris_.empty()) return;
   nodes_.reserve(2 * tris_.size() / kLeafSize + 2);
@@ -116,7 +115,7 @@ void TriangleBvh::build() {
     for (const Vec3& v : tris_[i]) tri_boxes_[i].add(v);
 }
 
-void TriangleBvh::gather(const Box3& box, double radius, CandidateList& out) const {
+void DistanceBvh::gather(const Box3& box, double radius, CandidateList& out) const {
   out.clear(box.center());
   if (nodes_.empty()) return;
   double r2 = radius * radius;
@@ -137,7 +136,7 @@ void TriangleBvh::gather(const Box3& box, double radius, CandidateList& out) con
   fill_boxes(out);
 }
 
-void TriangleBvh::fill_boxes(CandidateList& out) const {
+void DistanceBvh::fill_boxes(CandidateList& out) const {
   out.count = out.ids.size();
   out.ids.resize(padded_size(out.count));
   for (auto* v : out.arrays()) v->resize(padded_size(out.count));
@@ -160,7 +159,7 @@ void TriangleBvh::fill_boxes(CandidateList& out) const {
   out.extent = extent;
 }
 
-void TriangleBvh::narrow(const CandidateList& from, const Box3& box, double radius, CandidateList& out) const {
+void DistanceBvh::narrow(const CandidateList& from, const Box3& box, double radius, CandidateList& out) const {
   // Same local origin as `from`: the float boxes are copied, not re-rounded.
   out.clear(from.center);
   const Vec3 lo = box.lo - from.center, hi = box.hi - from.center;
@@ -210,7 +209,7 @@ void TriangleBvh::narrow(const CandidateList& from, const Box3& box, double radi
   for (auto* v : out.arrays()) v->resize(padded_size(kept));
 }
 
-double TriangleBvh::distance_among(Vec3 p, const CandidateList& list, double lo, double hi,
+double DistanceBvh::distance_among(Vec3 p, const CandidateList& list, double lo, double hi,
                                    uint32_t* nearest) const {
   double best2 = hi * hi;
   double lo2 = lo > 0 ? lo * lo : -1.0;
@@ -269,7 +268,7 @@ double TriangleBvh::distance_among(Vec3 p, const CandidateList& list, double lo,
   return done(best2 < hi * hi ? std::sqrt(best2) : hi);
 }
 
-uint32_t TriangleBvh::build_node(uint32_t first, uint32_t count, int depth) {
+uint32_t DistanceBvh::build_node(uint32_t first, uint32_t count, int depth) {
   uint32_t index = static_cast<uint32_t>(nodes_.size());
   nodes_.push_back({});
   Box3 box, centroids;
@@ -299,7 +298,7 @@ uint32_t TriangleBvh::build_node(uint32_t first, uint32_t count, int depth) {
   return index;
 }
 
-double TriangleBvh::distance(Vec3 p, double lo, double hi, uint32_t* nearest) const {
+double DistanceBvh::distance(Vec3 p, double lo, double hi, uint32_t* nearest) const {
   if (nodes_.empty()) return hi;
   double best2 = hi * hi;  // INFINITY stays INFINITY
   double lo2 = lo > 0 ? lo * lo : -1.0;  // lo <= 0: never stop early
@@ -342,7 +341,7 @@ double TriangleBvh::distance(Vec3 p, double lo, double hi, uint32_t* nearest) co
   return done(best2 < hi * hi ? std::sqrt(best2) : hi);
 }
 
-RayParity TriangleBvh::ray_parity(Vec3 p, Vec3 dir) const {
+RayParity DistanceBvh::ray_parity(Vec3 p, Vec3 dir) const {
   if (nodes_.empty()) return RayParity::outside;
   Vec3 inv{1.0 / dir.x, 1.0 / dir.y, 1.0 / dir.z};
   const double eps = 1e-9, dir2 = norm2(dir);
@@ -386,7 +385,7 @@ RayParity TriangleBvh::ray_parity(Vec3 p, Vec3 dir) const {
   return crossings % 2 ? RayParity::inside : RayParity::outside;
 }
 
-bool TriangleBvh::contains(Vec3 p) const {
+bool DistanceBvh::contains(Vec3 p) const {
   static const Vec3 dirs[] = {{0.5773, 0.6123, 0.5401}, {-0.7071, 0.3117, -0.6347},
                               {0.1331, -0.9123, 0.3873}, {-0.4409, -0.5407, 0.7166},
                               {0.8791, -0.2213, -0.4222}};
@@ -399,4 +398,4 @@ bool TriangleBvh::contains(Vec3 p) const {
   return false;
 }
 
-}  // namespace soupuv::proxy
+}  // namespace soupuv::geometry

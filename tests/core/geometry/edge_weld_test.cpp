@@ -1,4 +1,4 @@
-// weld_by_edges (quality/edge_weld.cpp): against its slow twin (every edge
+// geometry::weld_by_edges (geometry/edge_weld.cpp): against its slow twin (every edge
 // pair compared, no grid), and against the true adjacency of a noisy soup
 // (the shared teapot: tests/core/pipeline/edge_weld_teapot_test.cpp).
 #include <gtest/gtest.h>
@@ -8,11 +8,11 @@
 
 #include "adjacent_pair_set.h"
 #include "soupuv/quality/uv_metrics.h"
-#include "soupuv/quality/weld.h"
+#include "soupuv/geometry/weld.h"
 #include "testing/shapes.h"
 
 using namespace soupuv;
-using namespace soupuv::quality;
+using namespace soupuv::geometry;
 
 namespace {
 
@@ -53,7 +53,7 @@ TEST(EdgeWeld, MatchesItsSlowTwinOnANoisySphere) {
   const TriMesh mesh = shapes::icosphere(1.0, 2);  // 320 triangles, edges ~0.2
   const Soup soup = shapes::to_soup(mesh, 3e-3, 3);  // noise: fraction of the diagonal
   const double tolerance = 0.05;
-  const PairSet fast = pair_set(edge_adjacency(weld_by_edges(soup, tolerance), soup.triangles.size()));
+  const PairSet fast = pair_set(geometry::edge_adjacency(geometry::weld_by_edges(soup, tolerance), soup.triangles.size()));
   EXPECT_EQ(fast, slow_edge_pairs(soup, tolerance));
   EXPECT_EQ(fast.size(), 480u);  // every edge of the closed icosphere
 }
@@ -63,8 +63,8 @@ TEST(EdgeWeld, RecoversANoisyTorusExactly) {
   const Soup soup = shapes::to_soup(mesh, 1e-3, 1);
   const Soup exact = shapes::to_soup(mesh, 0.0, 1);
   const double diag = bounding_box(soup).diagonal();
-  const PairSet truth = pair_set(edge_adjacency(weld_corners(exact, 0.0), exact.triangles.size()));
+  const PairSet truth = pair_set(geometry::edge_adjacency(geometry::weld_corners(exact, 0.0), exact.triangles.size()));
   const PairSet got =
-      pair_set(edge_adjacency(weld_by_edges(soup, 4e-3 * diag), soup.triangles.size()));
+      pair_set(geometry::edge_adjacency(geometry::weld_by_edges(soup, 4e-3 * diag), soup.triangles.size()));
   EXPECT_EQ(got, truth);
 }

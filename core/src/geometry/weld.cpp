@@ -1,14 +1,14 @@
-#include "soupuv/quality/weld.h"
+#include "soupuv/geometry/weld.h"
 
 #include <algorithm>
 #include <cmath>
 #include <numeric>
 #include <unordered_map>
 
-#include "quality/corner_grid.h"
+#include "geometry/corner_grid.h"
 #include "soupuv/union_find.h"
 
-namespace soupuv::quality {
+namespace soupuv::geometry {
 
 namespace {
 
@@ -151,4 +151,4 @@ std::vector<AdjacentPair> edge_adjacency(const Weld& weld, size_t triangle_count
   return pairs;
 }
 
-}  // namespace soupuv::quality
+}  // namespace soupuv::geometry

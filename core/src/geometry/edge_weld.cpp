@@ -25,11 +25,11 @@
 #include <limits>
 #include <unordered_map>
 
-#include "quality/corner_grid.h"
-#include "soupuv/quality/weld.h"
+#include "geometry/corner_grid.h"
+#include "soupuv/geometry/weld.h"
 #include "soupuv/union_find.h"
 
-namespace soupuv::quality {
+namespace soupuv::geometry {
 
 namespace {
 
@@ -175,4 +175,4 @@ Weld weld_by_edges(const Soup& soup, double tolerance, double ambiguity_ratio) {
   return w;
 }
 
-}  // namespace soupuv::quality
+}  // namespace soupuv::geometry

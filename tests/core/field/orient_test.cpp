@@ -2,12 +2,12 @@
 
 #include <random>
 
-#include "soupuv/quality/weld.h"
+#include "soupuv/geometry/weld.h"
 #include "testing/shapes.h"
-#include "soupuv/transfer/orient.h"
+#include "soupuv/field/orient.h"
 
 using namespace soupuv;
-using namespace soupuv::transfer;
+using namespace soupuv::field;
 
 namespace {
 
@@ -52,7 +52,7 @@ field::FieldLines lines_with_sides(const Soup& s, F side) {
 TEST(Orient, SphereWindingIsRestoredOutward) {
   Soup s = shapes::to_soup(shapes::icosphere(1.0, 2), 1e-4, 3);
   scramble_winding(s, 1);
-  auto adj = quality::edge_adjacency(quality::weld_corners(s, 1e-3), s.triangles.size());
+  auto adj = geometry::edge_adjacency(geometry::weld_corners(s, 1e-3), s.triangles.size());
   Orientation o = consistent_orientation(s, adj);
   EXPECT_EQ(o.components, 1u);
   EXPECT_EQ(o.conflicting_edges, 0u);
@@ -69,7 +69,7 @@ TEST(Orient, SphereWindingIsRestoredOutward) {
 TEST(Orient, PlateGetsOneSideFromTheMajorityOfCorners) {
   Soup s = plate(10);
   scramble_winding(s, 2);
-  auto adj = quality::edge_adjacency(quality::weld_corners(s, 1e-3), s.triangles.size());
+  auto adj = geometry::edge_adjacency(geometry::weld_corners(s, 1e-3), s.triangles.size());
   Orientation o = consistent_orientation(s, adj);
   ASSERT_EQ(o.components, 1u);
   // |E| picks +z for 70 % of the corners (random), -z for the rest: sides
@@ -107,7 +107,7 @@ TEST(Orient, MoebiusStripReportsConflicts) {
     m.faces.push_back({a0, b1, a1});
   }
   Soup s = shapes::to_soup(m);
-  auto adj = quality::edge_adjacency(quality::weld_corners(s, 0), s.triangles.size());
+  auto adj = geometry::edge_adjacency(geometry::weld_corners(s, 0), s.triangles.size());
   Orientation o = consistent_orientation(s, adj);
   EXPECT_EQ(o.components, 1u);
   EXPECT_GE(o.conflicting_edges, 1u);

@@ -1,8 +1,8 @@
-#include "soupuv/transfer/orient.h"
+#include "soupuv/field/orient.h"
 
 #include <deque>
 
-namespace soupuv::transfer {
+namespace soupuv::field {
 
 namespace {
 
@@ -12,7 +12,7 @@ bool forward(uint8_t c0, uint8_t c1) { return (c0 + 1) % 3 == c1; }
 }  // namespace
 
 Orientation consistent_orientation(const Soup& soup,
-                                   const std::vector<quality::AdjacentPair>& adjacency) {
+                                   const std::vector<geometry::AdjacentPair>& adjacency) {
   const size_t n = soup.triangles.size();
   // CSR neighbour lists with "same winding needed" per edge: neighbours that
   // traverse the shared edge in opposite directions already agree.
@@ -114,4 +114,4 @@ size_t mixed_side_triangles(const Soup& soup, const field::FieldLines& lines) {
   return mixed;
 }
 
-}  // namespace soupuv::transfer
+}  // namespace soupuv::field

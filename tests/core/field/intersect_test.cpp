@@ -2,10 +2,10 @@
 
 #include "testing/shapes.h"
 #include "soupuv/geometry/triangle_triangle.h"
-#include "soupuv/transfer/intersect.h"
+#include "soupuv/field/intersect.h"
 
 using namespace soupuv;
-using namespace soupuv::transfer;
+using namespace soupuv::field;
 
 namespace {
 
