@@ -1,8 +1,9 @@
 #include "soupuv/quality/discontinuity.h"
-#include "soupuv/geometry/triangle_stretch.h"
 
 #include <algorithm>
 #include <cmath>
+
+#include "soupuv/geometry/triangle_stretch.h"
 
 namespace soupuv::quality {
 
