@@ -23,10 +23,7 @@
 //                        offset (proxy offset, fraction of the diagonal;
 //                        default: auto), proxy_edge (proxy remeshing edge
 //                        length, fraction of the diagonal; default: the
-//                        offset), gaps (0/1: the proxy keeps gaps
-//                        between far-apart parts, gap_offsets.h) with
-//                        gap_res, gap_min, gap_margin (its grid factor,
-//                        smallest offset and slit margin in cells).
+//                        offset).
 //   --quick              suzanne and Fox, the pipeline's atlas only.
 //   --dump-uvs DIR       also write DIR/MESH-VARIANT.uv.txt: per soup triangle
 //                        its corners' x y z u v (to draw the seams).
@@ -53,6 +50,7 @@
 #include "soupuv/io/load.h"
 #include "soupuv/pipeline.h"
 #include "soupuv/quality/uv_metrics.h"
+#include "soupuv/geometry/triangle_stretch.h"
 
 namespace {
 
@@ -76,48 +74,60 @@ struct Variant {
   atlas::AtlasOptions atlas = map_atlas_defaults();
   double offset = 0;      // 0: the pipeline's automatic offset
   double proxy_edge = 0;  // 0: the proxy's own choice (the offset)
-  bool gaps = false;      // proxy keep_gaps (gap_offsets.h)
-  double gap_res = 0, gap_min = 0, gap_margin = 0;  // 0: the proxy's defaults
 };
 
-// "NAME:K=V,K=V" -> a variant of the pipeline's atlas: the keys of
-// parse_map_candidate (pipeline.h), plus proxy_edge, which only the bench has.
+// One "K=V" of a variant spec into the atlas options or the proxy offset;
+// false for a key it does not know.
+bool apply_atlas_key(const std::string& key, double value, Variant& v) {
+  atlas::AtlasOptions& a = v.atlas;
+  if (key == "angle") a.max_normal_deviation_deg = value;
+  else if (key == "alt_angle") a.alternative_normal_deviations_deg.push_back(value);
+  else if (key == "no_alt_angles") a.alternative_normal_deviations_deg.clear();
+  else if (key == "stretch") a.max_stretch = value;
+  else if (key == "merge") a.merge_charts = value != 0;
+  else if (key == "merge_crease") a.merge_crease_deg = value;
+  else if (key == "merge_cone") a.merge_max_normal_deviation_deg = value;
+  else if (key == "merge_area") a.merge_max_area_fraction = value;
+  else if (key == "merge_fill") a.merge_min_fill = value;
+  else if (key == "merge_stretch") a.merge_max_stretch = value;
+  else if (key == "merge_sweeps") a.merge_stretch_sweeps = int(value);
+  else if (key == "pack_splits") a.packing_split_rounds = int(value);
+  else if (key == "split_below") a.packing_split_below = value;
+  else if (key == "relax") a.relax_seams = value != 0;
+  else if (key == "relax_band") a.relax_band = value;
+  else if (key == "relax_stretch") a.relax_max_stretch_increase = value;
+  else if (key == "relax_narrow") a.relax_narrowings = int(value);
+  else if (key == "soup_weights") a.soup_seam_weights = value != 0;
+  else if (key == "offset") v.offset = value;
+  else if (key == "proxy_edge") v.proxy_edge = value;
+  else return false;
+  return true;
+}
+
+// "NAME:K=V,K=V" -> a variant of the pipeline's atlas (the keys above).
+// Throws Error{invalid_input} on a missing name, an unknown key or a value
+// that is not a number.
 Variant parse_variant(const std::string& text) {
-  std::string spec = text.substr(0, text.find(':'));
   Variant v;
-  if (text.find(':') != std::string::npos) {
-    std::stringstream list(text.substr(text.find(':') + 1));
-    std::string item;
-    char sep = ':';
-    while (std::getline(list, item, ',')) {
-      if (item.rfind("proxy_edge=", 0) == 0) {
-        v.proxy_edge = std::stod(item.substr(11));
-        continue;
-      }
-      if (item.rfind("gaps=", 0) == 0) {
-        v.gaps = std::stod(item.substr(5)) != 0;
-        continue;
-      }
-      if (item.rfind("gap_res=", 0) == 0) {
-        v.gap_res = std::stod(item.substr(8));
-        continue;
-      }
-      if (item.rfind("gap_min=", 0) == 0) {
-        v.gap_min = std::stod(item.substr(8));
-        continue;
-      }
-      if (item.rfind("gap_margin=", 0) == 0) {
-        v.gap_margin = std::stod(item.substr(11));
-        continue;
-      }
-      spec += sep + item;
-      sep = ',';
+  const size_t colon = text.find(':');
+  v.name = text.substr(0, colon);
+  if (v.name.empty()) throw Error(ErrorCode::invalid_input, "a variant needs a name: " + text);
+  if (colon == std::string::npos) return v;
+  std::stringstream list(text.substr(colon + 1));
+  for (std::string item; std::getline(list, item, ',');) {
+    const size_t eq = item.find('=');
+    if (eq == std::string::npos) throw Error(ErrorCode::invalid_input, "variant item without '=': " + item);
+    double value = 0;
+    try {
+      size_t used = 0;
+      value = std::stod(item.substr(eq + 1), &used);
+      if (used != item.size() - eq - 1) throw std::invalid_argument("trailing text");
+    } catch (const std::exception&) {
+      throw Error(ErrorCode::invalid_input, "variant item needs a number: " + item);
     }
+    if (!apply_atlas_key(item.substr(0, eq), value, v))
+      throw Error(ErrorCode::invalid_input, "unknown variant key: " + item.substr(0, eq));
   }
-  const MapCandidate c = parse_map_candidate(spec);
-  v.name = c.name;
-  v.atlas = c.atlas;
-  v.offset = c.proxy_offset_fraction;
   return v;
 }
 
@@ -135,10 +145,10 @@ void emit_chart_rows(const std::string& mesh, const std::string& variant, const 
   for (size_t f = 0; f < proxy.faces.size(); ++f) {
     const auto& fv = proxy.faces[f];
     const Vec3 p0 = proxy.vertices[fv[0]], p1 = proxy.vertices[fv[1]], p2 = proxy.vertices[fv[2]];
-    double big, small;
+    geometry::SanderStretch st;
     const double a = 0.5 * norm(cross(p1 - p0, p2 - p0));
-    if (!quality::stretch_singular_values(p0, p1, p2, at.face_uvs[f], big, small)) continue;
-    face_sq[f] = 0.5 * (big * big + small * small) * scale * scale;
+    if (!geometry::sander_stretch(p0, p1, p2, at.face_uvs[f], st)) continue;
+    face_sq[f] = 0.5 * (st.big * st.big + st.small * st.small) * scale * scale;
     proxy_area[at.face_chart[f]] += a;
     proxy_sq[at.face_chart[f]] += a * face_sq[f];
   }
@@ -155,12 +165,11 @@ void emit_chart_rows(const std::string& mesh, const std::string& variant, const 
       if (inside(c, at.face_uvs[f])) face = static_cast<int>(f);
     if (face < 0) continue;
     const double a = triangle_area(soup, t);
-    double big, small;
-    if (!(a > 0) || !quality::stretch_singular_values(soup.corner(t, 0), soup.corner(t, 1), soup.corner(t, 2), uv,
-                                                      big, small))
+    geometry::SanderStretch st;
+    if (!(a > 0) || !geometry::sander_stretch(soup.corner(t, 0), soup.corner(t, 1), soup.corner(t, 2), uv, st))
       continue;
     soup_area[at.face_chart[face]] += a;
-    soup_sq[at.face_chart[face]] += a * 0.5 * (big * big + small * small) * scale * scale;
+    soup_sq[at.face_chart[face]] += a * 0.5 * (st.big * st.big + st.small * st.small) * scale * scale;
     face_soup_area[face] += a;
   }
   // The proxy chart's stretch weighted by the soup area that landed on each
@@ -243,7 +252,6 @@ int run_atlas_pipeline(const bench::Args& args) {
       std::cerr << "atlas-pipeline: " << s.name << " / " << variants[v].name << "\n";
       MapOptions o;
       o.atlas = variants[v].atlas;
-      o.candidates.clear();  // the variant alone, not the pipeline's candidate search
       o.cache = &store;
       o.original = s.noisy_soup ? &original : nullptr;
       o.keep_debug = charts;
@@ -251,10 +259,6 @@ int run_atlas_pipeline(const bench::Args& args) {
         o.proxy.offset_mode = proxy::OffsetMode::relative;
         o.proxy.offset = variants[v].offset;
       }
-      o.proxy.keep_gaps = variants[v].gaps;
-      if (variants[v].gap_res > 0) o.proxy.gap_resolution_factor = variants[v].gap_res;
-      if (variants[v].gap_min > 0) o.proxy.gap_min_offset_cells = variants[v].gap_min;
-      if (variants[v].gap_margin > 0) o.proxy.gap_margin_cells = variants[v].gap_margin;
       if (variants[v].proxy_edge > 0) {
         o.proxy.target_edge_length = variants[v].proxy_edge * bounding_box(soup).diagonal();
       }
@@ -280,12 +284,10 @@ int run_atlas_pipeline(const bench::Args& args) {
                             {"pairs", uv["causes"]["pairs"]},
                             {"from_chart_seams", uv["causes"]["chart_correction"]},
                             {"proxy_triangles", d["proxy"]["triangles"]},
-                            {"proxy_gap_narrowed", d["proxy"].value("gap_narrowed_triangles", 0)},
                             {"proxy_min_distance_ratio", d["proxy"]["min_distance_ratio"]},
                             {"proxy_resolution", d["proxy"]["resolution"]},
                             {"proxy_genus", d["proxy"]["genus"]},
                             {"proxy_seconds", d["proxy"]["seconds"]},
-                            {"proxy_seconds_gaps", d["proxy"].value("seconds_gaps", 0.0)},
                             {"proxy_offset_fraction", d["proxy"]["offset_fraction"]},
                             {"charts", a["charts"]},
                             {"utilization", a["utilization"]},
@@ -302,9 +304,6 @@ int run_atlas_pipeline(const bench::Args& args) {
                             {"cpu_seconds", cpu_seconds() - c0},
                             {"field_cached", d["cache"]["hits"].get<double>() > 0}};
       row["causes"] = uv["causes"];
-      if (d.contains("uv_repair") && d["uv_repair"].value("enabled", false))
-        row["before_repair"] = d["uv_repair"]["before"];
-      if (d.contains("island_relax")) row["island_relax"] = d["island_relax"];
       bench::emit(row);
       if (charts) {
         bench::emit({{"suite", "atlas-pipeline"}, {"kind", "stretch_tail"}, {"mesh", s.name},

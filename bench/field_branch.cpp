@@ -38,10 +38,10 @@
 #include "bench_registry.h"
 #include "soupuv/cache/store.h"
 #include "soupuv/pipeline.h"
-#include "soupuv/quality/weld.h"
+#include "soupuv/geometry/weld.h"
 #include "testing/shapes.h"
-#include "soupuv/transfer/intersect.h"
-#include "soupuv/transfer/orient.h"
+#include "soupuv/field/intersect.h"
+#include "soupuv/field/orient.h"
 
 namespace {
 
@@ -211,7 +211,7 @@ int run_field_branch_bench(const bench::Args& args) {
   const MapOptions defaults;
   auto t0 = Clock::now();
   double c0 = cpu_seconds();
-  transfer::IntersectionRefinement refined = transfer::refine_intersections(soup, Progress::none());
+  field::IntersectionRefinement refined = field::refine_intersections(soup, Progress::none());
   field::ChargeOptions co = defaults.charge;
   co.threads = *std::max_element(thread_counts.begin(), thread_counts.end());
   const field::ChargeResult charges = field::solve_charges(refined.soup, co, Progress::none());
@@ -223,10 +223,10 @@ int run_field_branch_bench(const bench::Args& args) {
                {"cpu_seconds", cpu_seconds() - c0}});
 
   // The shared seeds exactly as field_branch.cpp builds them.
-  const quality::Weld weld =
-      quality::weld_corners(soup, defaults.weld_tolerance * diag, defaults.weld_edge_fraction);
-  const transfer::Orientation orientation =
-      transfer::consistent_orientation(soup, quality::edge_adjacency(weld, soup.triangles.size()));
+  const geometry::Weld weld =
+      geometry::weld_corners(soup, defaults.weld_tolerance * diag, defaults.weld_edge_fraction);
+  const field::Orientation orientation =
+      field::consistent_orientation(soup, geometry::edge_adjacency(weld, soup.triangles.size()));
   const pipeline::SharedSeeds shared = pipeline::shared_seeds(soup, weld, orientation);
   double max_offset = 0;
   for (double f : map_proxy_defaults().ladder) max_offset = std::max(max_offset, f * diag);

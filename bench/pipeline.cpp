@@ -4,8 +4,7 @@
 //   --only samples    one row per sample (kind "sample"): the shared noisy
 //                     soups (continuity against NAME-soup.original.glb) and the
 //                     real glTF/Draco samples (continuity by welding), with the
-//                     field figures, the same figures before the UV repair
-//                     ("before_repair"), and the box baseline's ("box_*").
+//                     field figures and the box baseline's ("box_*").
 //   --only NAME       that sample alone (same row), or torus-100k.
 //   torus-100k        the 100k-triangle soup: a first run, a re-run with a new
 //                     proxy offset that reuses the cached charges and field
@@ -20,16 +19,8 @@
 //                     and overlap, the UV solve's counts; then a summary.
 //   default           every sample, then torus-100k. --quick (CI, about a
 //                     minute): one small sphere with a fixed offset.
-//   --seed-weld-corners, --no-reweld, --strict-retry F, --no-grow-while-bad:
-//                     session 6's levers off (session 5's pipeline: all four,
-//                     F = 1.2).
-//   --no-island-relax, --island-max-triangles N: the island relaxation off,
-//                     or its gate moved (0: any size). Rows carry island_relax
-//                     (relaxed islands, L2 and overlap before/after, seconds).
-//   --candidate NAME:K=V,..  one more (proxy, atlas) candidate for the search
-//                     (parse_map_candidate's keys; repeatable); --no-candidates:
-//                     the run's own alone (the A/B switch). Rows carry
-//                     candidates (atlas.candidates) and candidate_chosen.
+//   --seed-weld-corners, --seed-edge-fraction F, --max-step-growth G: the
+//                     seed weld and the tracer's step growth, for A/B runs.
 //
 // Rows carry seconds (wall) and cpu_seconds (process user + sys during the
 // run; the machine may be shared), per-stage seconds, threads, peak_rss_mb,
@@ -159,75 +150,28 @@ nlohmann::json row(const Input& in, const std::string& method, const Timed& run)
                            {"by_class", tail["by_class"]}};
     }
     r["charge_iterations"] = d["charge"].value("iterations", 0);
-    if (d["atlas"].contains("candidates")) {
-      r["candidates"] = d["atlas"]["candidates"];
-      for (const auto& c : d["atlas"]["candidates"])
-        if (c["chosen"].get<bool>()) r["candidate_chosen"] = c["name"];
-    }
     // The most continuity a low-distortion atlas can reach (cones on seams).
     if (d["uv"].contains("continuity_bound")) r["continuity_bound"] = d["uv"]["continuity_bound"];
-  }
-  if (d.contains("uv_repair") && d["uv_repair"].value("enabled", false)) {
-    r["repaired_vertices"] = d["uv_repair"]["repaired_vertices"];
-    r["repaired_triangles"] = d["uv_repair"]["repaired_triangles"];
-    r["before_repair"] = d["uv_repair"]["before"];
-    r["repair_failed_patches"] = d["uv_repair"]["failed_patches"];
-    r["repair_failed_detail"] = d["uv_repair"]["failed_detail"];
-    if (d["uv_repair"].contains("strict_retry"))
-      r["repair_strict_retry"] = {{"failed_patches", d["uv_repair"]["strict_retry"]["failed_patches"]},
-                                  {"seconds", d["uv_repair"]["strict_retry"]["seconds"]},
-                                  {"failed_detail", d["uv_repair"]["strict_retry"]["failed_detail"]}};
-    r["repair_seconds"] = d["uv_repair"]["seconds"];
-    r["repair_slowest_patches"] = d["uv_repair"].value("slowest_patches", nlohmann::json::array());
-  }
-  if (d.contains("island_relax") && d["island_relax"].value("ran", false)) {
-    const auto& ir = d["island_relax"];
-    nlohmann::json islands = nlohmann::json::array();
-    for (const auto& f : ir["per_island"])
-      if (islands.size() < 4) islands.push_back({{"triangles", f["triangles"]}, {"outcome", f["outcome"]},
-                                                 {"l2", {f["stretch_l2_before"], f["stretch_l2_after"]}},
-                                                 {"iterations", {f["iterations"], f["l2_iterations"]}}});
-    r["island_relax"] = {{"relaxed", ir["relaxed"]}, {"islands", ir["islands"]},
-                         {"rejected_overlap", ir["rejected_overlap"]},
-                         {"stretch_l2", {ir["stretch_l2_before"], ir["stretch_l2_after"]}},
-                         {"overlap_texels", {ir["overlap_texels_before"], ir["overlap_texels_after"]}},
-                         {"seconds", ir["seconds"]}, {"largest", islands}};
   }
   return r;
 }
 
-// The CLI's switches for session 6's levers, so one binary can A/B them:
-// --seed-weld-corners (seeds welded by position alone), --no-reweld,
-// --strict-retry F, --no-grow-while-bad (session 5: all four, F = 1.2).
+// Switches for A/B runs of one binary: --seed-weld-corners (seeds welded by
+// position alone), --seed-edge-fraction F, --max-step-growth G.
 void apply_switches(const bench::Args& args, MapOptions& o) {
   for (size_t i = 0; i < args.rest.size(); ++i) {
     if (args.rest[i] == "--seed-weld-corners") o.seed_weld_by_edges = false;
-    if (args.rest[i] == "--no-reweld") o.uv_reweld = false;
-    if (args.rest[i] == "--no-island-relax") o.island_relax = false;
     if (args.rest[i] == "--max-step-growth" && i + 1 < args.rest.size())
       o.trace.max_step_growth = std::stod(args.rest[i + 1]);
-    if (args.rest[i] == "--island-max-triangles" && i + 1 < args.rest.size())
-      o.island_relax_max_triangles = size_t(std::stoul(args.rest[i + 1]));
-    if (args.rest[i] == "--no-grow-while-bad") o.repair.grow_while_bad = false;
     if (args.rest[i] == "--seed-edge-fraction" && i + 1 < args.rest.size())
       o.seed_weld_edge_fraction = std::stod(args.rest[i + 1]);
-    if (args.rest[i] == "--grow-max-vertices" && i + 1 < args.rest.size())
-      o.repair.grow_while_bad_max_vertices = size_t(std::stoul(args.rest[i + 1]));
-    if (args.rest[i] == "--strict-retry" && i + 1 < args.rest.size())
-      o.repair_strict_retry = std::stod(args.rest[i + 1]);
-    if (args.rest[i] == "--candidate" && i + 1 < args.rest.size())
-      o.candidates.push_back(parse_map_candidate(args.rest[i + 1]));
   }
-  // After the list is complete: --no-candidates keeps the run's own alone.
-  for (const auto& a : args.rest)
-    if (a == "--no-candidates") o.candidates.resize(std::min<size_t>(o.candidates.size(), 1));
 }
 
-MapOptions base_options(const Input& in, const bench::Args& args, double offset, bool repair) {
+MapOptions base_options(const Input& in, const bench::Args& args, double offset) {
   MapOptions o;
   apply_switches(args, o);
   o.original = in.has_original ? &in.original : nullptr;
-  o.uv_repair = repair;
   if (args.quick || offset > 0) {
     o.proxy.offset_mode = proxy::OffsetMode::relative;
     o.proxy.offset = offset > 0 ? offset : 0.03;
@@ -235,11 +179,10 @@ MapOptions base_options(const Input& in, const bench::Args& args, double offset,
   return o;
 }
 
-// One row per sample: field (with the figures before the repair inside)
-// and the box baseline's figures beside them.
-nlohmann::json sample_row(const Input& in, const bench::Args& args, double offset, bool repair) {
+// One row per sample: field and the box baseline's figures beside them.
+nlohmann::json sample_row(const Input& in, const bench::Args& args, double offset) {
   std::cerr << "pipeline: " << in.name << " (" << in.soup.triangles.size() << " triangles)\n";
-  MapOptions o = base_options(in, args, offset, repair);
+  MapOptions o = base_options(in, args, offset);
   Timed field = timed_map(in.soup, o);
   nlohmann::json r = row(in, "field", field);
   r["kind"] = "sample";
@@ -255,10 +198,10 @@ nlohmann::json sample_row(const Input& in, const bench::Args& args, double offse
 }
 
 // The 100k soup: first run, cached re-run with a 1.5x offset, box.
-nlohmann::json large_rows(const Input& in, const bench::Args& args, double offset, bool repair) {
+nlohmann::json large_rows(const Input& in, const bench::Args& args, double offset) {
   std::cerr << "pipeline: " << in.name << " (" << in.soup.triangles.size() << " triangles)\n";
   cache::Store store;
-  MapOptions o = base_options(in, args, offset, repair);
+  MapOptions o = base_options(in, args, offset);
   o.cache = &store;
   Timed first = timed_map(in.soup, o);
   bench::emit(row(in, "field", first));
@@ -399,11 +342,9 @@ int run_pipeline(const bench::Args& args) {
     if (args.rest[i] == "--corpus") return corpus_rows(args.rest[i + 1], args);
   std::string only;
   double offset = 0;  // 0: the pipeline's default offset
-  bool repair = true;  // the rows carry the unrepaired figures too
   for (size_t i = 0; i < args.rest.size(); ++i) {
     if (args.rest[i] == "--only" && i + 1 < args.rest.size()) only = args.rest[i + 1];
     if (args.rest[i] == "--offset" && i + 1 < args.rest.size()) offset = std::stod(args.rest[i + 1]);
-    if (args.rest[i] == "--no-uv-repair") repair = false;
   }
   auto wanted = [&](const std::string& name, bool is_sample) {
     return only.empty() || only == name || (only == "samples" && is_sample);
@@ -414,7 +355,7 @@ int run_pipeline(const bench::Args& args) {
     // --quick (CI, about a minute): one small sphere with a fixed offset
     // (the automatic offset's ladder alone takes minutes on a loaded machine).
     summary["meshes"]["sphere-500"] =
-        large_rows(synthetic("sphere-500", shapes::sphere_with(1.0, 500)), args, offset, repair);
+        large_rows(synthetic("sphere-500", shapes::sphere_with(1.0, 500)), args, offset);
     bench::emit(summary);
     return 0;
   }
@@ -423,17 +364,17 @@ int run_pipeline(const bench::Args& args) {
     return 0;
   }
   for (const std::string& name : kSoups)
-    if (wanted(name, true)) summary["samples"][name] = sample_row(shared_soup(name), args, offset, repair);
+    if (wanted(name, true)) summary["samples"][name] = sample_row(shared_soup(name), args, offset);
   for (const auto& [name, file] : kAssets)
-    if (wanted(name, true)) summary["samples"][name] = sample_row(asset(name, file), args, offset, repair);
+    if (wanted(name, true)) summary["samples"][name] = sample_row(asset(name, file), args, offset);
   if (wanted("torus-100k", false))
     summary["meshes"]["torus-100k"] = large_rows(
-        synthetic("torus-100k", shapes::torus_with(1.0, 0.5, 100352)), args, offset, repair);
+        synthetic("torus-100k", shapes::torus_with(1.0, 0.5, 100352)), args, offset);
   // Keep the summary short: the per-sample figures, not the causes.
   for (auto& [name, r] : summary["samples"].items()) {
     nlohmann::json slim;
     for (const char* k : {"seconds", "continuity", "continuity_1texel", "flipped_fraction", "stretch_l2",
-                          "stretch_median", "islands", "charts", "candidate_chosen", "box_continuity",
+                          "stretch_median", "islands", "charts", "box_continuity",
                           "box_islands"})
       if (r.contains(k)) slim[k] = r[k];
     r = slim;

@@ -9,13 +9,7 @@
 //            defaults (automatic offset, sampling resolution, no cap): one
 //            row per file with its checks, rung and seconds; files that do
 //            not load (or have no triangles) get a row saying why.
-//   gaps     (only with --only=gaps) the opt-in gap-keeping offsets
-//            (ProxyOptions::keep_gaps): two noisy spheres 0.1 r apart at
-//            2.5k, 5k, 10k, 20k triangles (quick: 2.5k, 10k), fixed relative
-//            offset 0.03: gap-analysis seconds, narrowed triangles and outer
-//            components (2 = the gap stayed open; 1 without keep_gaps), and
-//            the log-log slope of the gap seconds against the triangles.
-// Flags: --quick (small subset, about a minute), --only=table1|soups|scaling|samples|gaps,
+// Flags: --quick (small subset, about a minute), --only=table1|soups|scaling|samples,
 //        --resolutions=128,256 (scaling: these instead of the default list),
 //        --no-prune (scaling without the cavity pruning, for comparison).
 #include <sys/resource.h>
@@ -165,42 +159,6 @@ void scaling(bool quick, std::vector<int> resolutions, bool prune) {
         {"note", "slope 2 = grows with the surface; 3 would be the volume"}});
 }
 
-void gaps(bool quick) {
-  // Quadratic (gap_offsets.h): 40k took minutes, so the list stops at 20k.
-  std::vector<int> sizes = quick ? std::vector<int>{2500, 10000} : std::vector<int>{2500, 5000, 10000, 20000};
-  std::vector<double> tris, secs;
-  for (int n : sizes) {
-    TriMesh a = shapes::sphere_with(1.0, n / 2), b = shapes::sphere_with(1.0, n / 2);
-    shapes::translate(b, {2.1, 0, 0});
-    // Noise 1e-4 of the diagonal: the split copies stay within the weld
-    // tolerance (gap_weld_fraction 4e-3).
-    const Soup soup = shapes::merge(shapes::to_soup(a, 1e-4, 1), shapes::to_soup(b, 1e-4, 2));
-    for (bool keep : {false, true}) {
-      proxy::ProxyOptions o;
-      o.offset_mode = proxy::OffsetMode::relative;
-      o.offset = 0.03;
-      o.keep_gaps = keep;
-      reset_peak_rss();
-      const double cpu0 = cpu_seconds();
-      auto r = proxy::build_proxy(soup, o);
-      auto j = row("gaps", "two_spheres_gap_0.1", soup, r);
-      j["cpu_seconds"] = cpu_seconds() - cpu0;
-      j["keep_gaps"] = keep;
-      j["seconds_gaps"] = r.seconds_gaps;
-      j["gap_narrowed_triangles"] = r.gap_narrowed_triangles;
-      j["gap_smallest_offset"] = r.gap_smallest_offset;
-      emit(j);
-      if (keep) {
-        tris.push_back(double(soup.triangles.size()));
-        secs.push_back(r.seconds_gaps);
-      }
-    }
-  }
-  emit({{"suite", "proxy"}, {"kind", "summary"}, {"part", "gaps"},
-        {"gap_seconds_vs_triangles_loglog_slope", loglog_slope(tris, secs)},
-        {"note", "at a fixed offset fraction each triangle walks over a fixed share of the soup: slope 2 expected"}});
-}
-
 // Every glTF/GLB/Draco file under ../shared/data except bad/, sorted.
 std::vector<std::filesystem::path> sample_files() {
   namespace fs = std::filesystem;
@@ -273,7 +231,6 @@ int run_proxy(const Args& args) {
     if (only.empty() || only == "soups") soups(args.quick);
     if (only.empty() || only == "scaling") scaling(args.quick, resolutions, prune);
     if (only.empty() || only == "samples") samples(args.quick);
-    if (only == "gaps") gaps(args.quick);
   } catch (const Error& e) {
     std::cerr << "proxy bench: " << e.what() << "\n";
     return 1;

@@ -5,6 +5,7 @@
 #include <vector>
 
 #include "soupuv/errors.h"
+#include "soupuv/io/load.h"
 
 namespace soupuv::cli {
 
@@ -50,5 +51,8 @@ void write_file_atomically(const std::string& path, const void* data, size_t siz
 // Throws IoError unless the folder that will hold `path` exists and is
 // writable: checked before a long run, so a typo costs no minutes of work.
 void check_writable_destination(const std::string& path);
+
+// "glb", "gltf" or "drc": the input format as the diagnostics and inspect name it.
+const char* format_name(io::Format f);
 
 }  // namespace soupuv::cli

@@ -1,4 +1,4 @@
-// Exit codes and atomic file output for the CLI (see cli.h).
+// Exit codes, atomic file output and format names for the CLI (see cli.h).
 #include <cerrno>
 #include <cstdio>
 #include <cstring>
@@ -63,6 +63,15 @@ void write_file_atomically(const std::string& path, const void* data, size_t siz
     ::unlink(temp.c_str());
     throw IoError{"cannot write " + path + ": " + reason};
   }
+}
+
+const char* format_name(io::Format f) {
+  switch (f) {
+    case io::Format::glb: return "glb";
+    case io::Format::gltf: return "gltf";
+    case io::Format::drc: return "drc";
+  }
+  return "unknown";
 }
 
 }  // namespace soupuv::cli

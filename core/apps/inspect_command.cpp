@@ -12,15 +12,6 @@ namespace soupuv::cli {
 
 namespace {
 
-const char* format_name(io::Format f) {
-  switch (f) {
-    case io::Format::glb: return "glb";
-    case io::Format::gltf: return "gltf";
-    case io::Format::drc: return "drc";
-  }
-  return "unknown";
-}
-
 nlohmann::json parts(const io::Asset& asset) {
   std::set<int32_t> meshes, nodes, materials;
   std::set<std::pair<int32_t, int32_t>> primitives;

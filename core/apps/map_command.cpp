@@ -18,15 +18,6 @@ namespace soupuv::cli {
 
 namespace {
 
-const char* format_name(io::Format f) {
-  switch (f) {
-    case io::Format::glb: return "glb";
-    case io::Format::gltf: return "gltf";
-    case io::Format::drc: return "drc";
-  }
-  return "unknown";
-}
-
 double seconds_since(std::chrono::steady_clock::time_point start) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 }

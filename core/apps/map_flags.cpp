@@ -15,8 +15,7 @@ namespace {
 
 const char* kGeneral = "Options";
 const char* kField = "Field method options";
-const char* kSolve = "UV solve options (the default after transfer)";
-const char* kPrevious = "Previous UV chain options (with --no-uv-solve)";
+const char* kSolve = "UV solve options";
 
 double num(const std::string& v) { return parse_number(v); }
 int whole(const std::string& v) { return int(parse_number(v)); }
@@ -135,7 +134,7 @@ std::vector<MapFlag> make_table() {
           "corners closer than F x diagonal are one vertex (shared lines, sides, §8 neighbours; 0.002)",
           [](MapArgs& m, const std::string& v) { opt(m).weld_tolerance = num(v); }),
       sw("--weld-corners", kField,
-         "§8 neighbours and the repair weld corners by position (--weld-tolerance) instead of "
+         "§8 neighbours and the UV solve weld corners by position (--weld-tolerance) instead of "
          "matching edges",
          [](MapArgs& m) { opt(m).weld_by_edges = false; }),
       sw("--seed-weld-corners", kField,
@@ -189,10 +188,6 @@ std::vector<MapFlag> make_table() {
          [](MapArgs& m) { opt(m).chart_fix_neighbours = false; }),
 
       // The soup UV solve.
-      sw("--no-uv-solve", kSolve,
-         "the previous UV chain after transfer (repair, reweld, island relaxation, candidate "
-         "search) instead of the soup UV solve (cut, untangle, SLIM, split, pack)",
-         [](MapArgs& m) { opt(m).soup_uv_solve = false; }),
       val("--uv-collapse-ratio", "F", number_in(0, 1, false, true), kSolve,
           "the UV solve cuts triangles whose UV area is below F x their rest area after untangling (0.05)",
           [](MapArgs& m, const std::string& v) { opt(m).uv_solve.collapse_ratio = num(v); }),
@@ -207,76 +202,6 @@ std::vector<MapFlag> make_table() {
           [](MapArgs& m, const std::string& v) { opt(m).uv_solve.solve_iterations = whole(v); }),
       val("--uv-overlap-samples", "F", number_in(0.25, 8), kSolve, "overlap samples per texel side (2)",
           [](MapArgs& m, const std::string& v) { opt(m).uv_solve.overlap_samples_per_texel = num(v); }),
-
-      // The previous chain after transfer (--no-uv-solve).
-      sw("--no-uv-repair", kPrevious,
-         "skip the local UV repair (a post-process after transfer that re-places the UVs around "
-         "flipped or sliver triangles; on by default)",
-         [](MapArgs& m) { opt(m).uv_repair = false; }),
-      sw("--uv-repair", kPrevious, "run the local UV repair (the default)",
-         [](MapArgs& m) { opt(m).uv_repair = true; }),
-      val("--repair-stretch", "F", number_in(1, HUGE_VAL, true), kPrevious,
-          "repair triangles stretched beyond F x the median (2)",
-          [](MapArgs& m, const std::string& v) { opt(m).repair.stretch_threshold = num(v); }),
-      val("--repair-growth", "N", whole_number_in(0, 20), kPrevious,
-          "rings a repair patch may grow by to find a start (3)",
-          [](MapArgs& m, const std::string& v) { opt(m).repair.max_growth = whole(v); }),
-      sw("--no-untangle", kPrevious, "repair without the untangling start (Garanzha et al.)",
-         [](MapArgs& m) { opt(m).repair.untangle = false; }),
-      sw("--no-grow-while-bad", kPrevious,
-         "a repaired patch whose triangles are still badly stretched keeps its first repair (by "
-         "default it grows by up to --repair-growth rings while that helps)",
-         [](MapArgs& m) { opt(m).repair.grow_while_bad = false; }),
-      sw("--no-island-start", kPrevious,
-         "repair chart islands (no fixed corner) like other patches, not from one triangle laid "
-         "down isometrically",
-         [](MapArgs& m) { opt(m).repair.island_start = false; }),
-      sw("--no-repair-split", kPrevious,
-         "leave triangles whose corners landed on two charts to the repair's usual rules",
-         [](MapArgs& m) { opt(m).repair_split_triangles = false; }),
-      val("--strict-retry", "F", any_number(), kPrevious,
-          "after failed repair patches, repair again on an edge weld that leaves an edge unmatched "
-          "when its second-best partner is within F x its best (1.05; trades a little continuity "
-          "for flips)",
-          [](MapArgs& m, const std::string& v) { opt(m).repair_strict_retry = num(v); }),
-      sw("--no-strict-retry", kPrevious, "no strict retry",
-         [](MapArgs& m) { opt(m).repair_strict_retry = 0; }),
-      sw("--repair-weld-lines", kPrevious,
-         "the repair moves each shared line's copies as one UV vertex (default: the matched-edge "
-         "weld's vertices)",
-         [](MapArgs& m) { opt(m).repair_weld_lines = true; }),
-      sw("--no-reweld", kPrevious,
-         "leave copies of one field line that the repair put at different UVs on one chart apart "
-         "(by default they are joined again where nothing folds)",
-         [](MapArgs& m) { opt(m).uv_reweld = false; }),
-      val("--reweld-density", "E", number_in(4, HUGE_VAL), kPrevious,
-          "... a joined triangle's symmetric Dirichlet energy per area may reach E (8; 4 = isometric)",
-          [](MapArgs& m, const std::string& v) { opt(m).reweld.max_energy_density = num(v); }),
-      sw("--no-island-relax", kPrevious,
-         "skip the island relaxation (a post-process after the repair: each UV island "
-         "re-flattened as a whole)",
-         [](MapArgs& m) { opt(m).island_relax = false; }),
-      val("--island-max-triangles", "N", whole_number_in(0, 1e9), kPrevious,
-          "... it runs on soups of at most N triangles (20000; 0 = any size)",
-          [](MapArgs& m, const std::string& v) { opt(m).island_relax_max_triangles = size_t(num(v)); }),
-      val("--candidate", "NAME:K=V,..", any_text(), kPrevious,
-          "one more (proxy, atlas) candidate landed against the same field lines; on small coarse "
-          "soups the one with the best welded continuity within flipped <= 0.5 % and L2 <= 1.3 is "
-          "kept (keys: angle, alt_angle, no_alt_angles, stretch, merge_cone, merge_area, "
-          "merge_fill, merge_stretch, merge_sweeps, relax, relax_band, relax_stretch, offset); "
-          "repeatable; atlas.candidates in diagnostics",
-          [](MapArgs& m, const std::string& v) {
-            try {
-              opt(m).candidates.push_back(parse_map_candidate(v));
-            } catch (const Error& e) {
-              throw UsageError{std::string("--candidate: ") + e.what()};
-            }
-          }),
-      sw("--no-candidates", kPrevious, "only this run's own proxy and atlas",
-         [](MapArgs& m) { opt(m).candidates.resize(std::min<size_t>(opt(m).candidates.size(), 1)); }),
-      val("--candidate-max-triangles", "N", whole_number_in(0, 100000000), kPrevious,
-          "search on soups of at most N triangles (20000)",
-          [](MapArgs& m, const std::string& v) { opt(m).candidates_max_triangles = size_t(num(v)); }),
   };
 }
 
@@ -319,7 +244,7 @@ void add_map_flags(CLI::App& map, MapArgs& args) {
         o->check(CLI::Validator([check](std::string& v) { return check.check(v); }, check.describe()));
     }
     // Applied as each occurrence is parsed: command-line order decides
-    // between opposing flags and --candidate / --no-candidates, as it always did.
+    // between opposing flags, as it always did.
     o->trigger_on_parse()->multi_option_policy(CLI::MultiOptionPolicy::TakeLast)->group(f.group);
   }
 }

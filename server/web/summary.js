@@ -41,8 +41,8 @@ export function renderSummary(table, diag) {
 // proxy/atlas and charge/trace side by side, as docs/architecture.md draws them).
 // The job's stage_seconds object comes with its keys sorted, so the steps
 // inside a stage are named here in their order too.
-const ORDER = ['load', 'intersections', 'proxy', 'charge', 'trace', 'atlas', 'candidates', 'transfer', 'weld',
-  'uv_repair', 'island_relax', 'uv_solve', 'box', 'metrics', 'report', 'write', 'done'];
+const ORDER = ['load', 'intersections', 'proxy', 'charge', 'trace', 'atlas', 'transfer', 'weld',
+  'uv_solve', 'box', 'metrics', 'report', 'write', 'done'];
 const STEPS = ['narrow_band', 'marching_cubes', 'components', 'smoothing', 'remeshing', 'collapsing_short_edges',
   'checks', 'segment', 'parameterize', 'merge', 'relax', 'pack', 'measure', 'done'];
 

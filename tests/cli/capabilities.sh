@@ -11,10 +11,14 @@ help=$("$1" --help)
 import json, os, sys
 j = json.load(sys.stdin)
 flags, commands = set(j["map_flags"]), set(j["commands"])
-missing = {"-o", "--method", "--diagnostics", "--progress", "--texture-size", "--no-uv-solve",
+missing = {"-o", "--method", "--diagnostics", "--progress", "--texture-size",
            "--uv-collapse-ratio", "--uv-untangle-iterations", "--uv-solve-iterations",
            "--uv-overlap-samples"} - flags
 assert not missing, "missing map flags: %s" % sorted(missing)
+# The previous UV chain and the opt-in paths no default used are gone (issue 23).
+gone = {"--no-uv-solve", "--no-uv-repair", "--candidate", "--no-candidates", "--no-island-relax",
+        "--repair-weld-lines", "--strict-retry", "--no-reweld"} & flags
+assert not gone, "removed map flags still listed: %s" % sorted(gone)
 assert {"map", "inspect", "capabilities"} <= commands, commands
 assert all(f.startswith("-") for f in flags), flags
 names = [n for row in j["map_options"] for n in row["names"]]

@@ -1,16 +1,16 @@
 #!/usr/bin/env bash
 # cli.field.metrics_agree — the diagnostics' uv.utilisation and uv.overlap are the
 # yardstick's (../shared/eval/uvmetrics.py) on the same output: soupuv maps a
-# few corpus soups (also with --no-uv-solve, whose maps do overlap, so the
-# overlap figures compared are not all zero) and both scores must agree.
+# few corpus soups (also with --method box, whose tri-planar maps do overlap,
+# so the overlap figures compared are not all zero) and both scores must agree.
 # usage: metrics_agree.sh SOUPUV EVAL_DIR CORPUS_DIR OUTDIR
 set -euo pipefail
 soupuv=$1 eval_dir=$2 corpus=$3 out=$4
 mkdir -p "$out"
 py=/usr/bin/python3
 compared=0 overlapping=0
-for run in "ThreeMeshes" "SpheresScaledInstances" "lamp" "SpheresScaledInstances --no-uv-solve --no-candidates" \
-           "lamp --no-uv-solve --no-candidates"; do
+for run in "ThreeMeshes" "SpheresScaledInstances" "lamp" "SpheresScaledInstances --method box" \
+           "lamp --method box"; do
   set -- $run
   name=$1; shift
   tag=$name$(printf '%s' "$*" | tr -c 'a-z' '_')

@@ -7,7 +7,7 @@
 #include <vector>
 
 #include "soupuv/mesh.h"
-#include "soupuv/quality/weld.h"
+#include "soupuv/geometry/weld.h"
 #include "testing/shapes.h"
 #include "soupuv/soup.h"
 
@@ -33,7 +33,7 @@ inline Vec2 grid_isometric_uv(Vec3 p) { return {0.05 + kGridUvScale * p.x, 0.05 
 
 struct UvGridCase {
   Soup soup = shapes::to_soup(uv_grid_mesh(), 0.0);
-  quality::Weld weld = quality::weld_corners(soup, 1e-9);
+  geometry::Weld weld = geometry::weld_corners(soup, 1e-9);
   std::vector<int> chart = std::vector<int>(soup.triangles.size(), 0);
   std::vector<std::array<Vec2, 3>> uvs;
   UvGridCase() {

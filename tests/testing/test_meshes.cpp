@@ -2,75 +2,40 @@
 
 #include <algorithm>
 #include <cmath>
-#include <unordered_map>
+
+#include "soupuv/proxy/marching_tetrahedra.h"
+#include "soupuv/proxy/narrow_band.h"
 
 namespace soupuv::test_meshes {
 
 TriMesh march(const std::function<double(Vec3)>& f, Vec3 lo, Vec3 hi, int cells, int smoothing) {
+  // The proxy's own marching tetrahedra (proxy/marching_tetrahedra.h) over a
+  // dense band: every grid corner sampled, every sign-changing cell listed.
   Vec3 ext = hi - lo;
   double h = std::max({ext.x, ext.y, ext.z}) / cells;
   const int nx = static_cast<int>(std::ceil(ext.x / h)) + 1;
   const int ny = static_cast<int>(std::ceil(ext.y / h)) + 1;
   const int nz = static_cast<int>(std::ceil(ext.z / h)) + 1;
-  auto id = [&](int i, int j, int k) { return (static_cast<long long>(k) * ny + j) * nx + i; };
-  auto point = [&](long long v) {
-    int i = static_cast<int>(v % nx), j = static_cast<int>((v / nx) % ny), k = static_cast<int>(v / (static_cast<long long>(nx) * ny));
-    return Vec3{lo.x + i * h, lo.y + j * h, lo.z + k * h};
-  };
-  std::vector<double> value(static_cast<size_t>(nx) * ny * nz);
-  for (long long v = 0; v < static_cast<long long>(value.size()); ++v) {
-    double x = f(point(v));
-    // A sample exactly on the surface would make a degenerate triangle.
-    value[v] = std::fabs(x) < 1e-9 ? 1e-9 : x;
-  }
-
-  TriMesh m;
-  std::unordered_map<long long, int> edge_vertex;
-  auto vertex_on = [&](long long a, long long b) {
-    if (a > b) std::swap(a, b);
-    long long key = a * static_cast<long long>(value.size()) + b;
-    auto it = edge_vertex.find(key);
-    if (it != edge_vertex.end()) return it->second;
-    double t = value[a] / (value[a] - value[b]);
-    int idx = static_cast<int>(m.vertices.size());
-    m.vertices.push_back(point(a) + t * (point(b) - point(a)));
-    edge_vertex.emplace(key, idx);
-    return idx;
-  };
-  // Six tetrahedra around the cube diagonal 0-7 (corner bits: x=1, y=2, z=4);
-  // the same split in every cube keeps the surface watertight.
-  static const int tets[6][4] = {{0, 1, 3, 7}, {0, 3, 2, 7}, {0, 2, 6, 7},
-                                 {0, 6, 4, 7}, {0, 4, 5, 7}, {0, 5, 1, 7}};
-  auto emit = [&](int a, int b, int c, Vec3 outward) {
-    Vec3 n = cross(m.vertices[b] - m.vertices[a], m.vertices[c] - m.vertices[a]);
-    if (dot(n, outward) < 0) std::swap(b, c);
-    m.faces.push_back({a, b, c});
-  };
+  proxy::NarrowBand band;
+  band.origin = lo;
+  band.cell = h;
+  band.dims = {nx - 1, ny - 1, nz - 1};
+  // Keys sort by (k, j, i), the order of these loops.
+  for (int k = 0; k < nz; ++k)
+    for (int j = 0; j < ny; ++j)
+      for (int i = 0; i < nx; ++i) {
+        band.corner_keys.push_back(proxy::grid_key(i, j, k));
+        band.corner_values.push_back(f(lo + Vec3{i * h, j * h, k * h}));
+      }
+  auto value = [&](int i, int j, int k) { return band.corner_values[(size_t(k) * ny + j) * nx + i]; };
   for (int k = 0; k + 1 < nz; ++k)
     for (int j = 0; j + 1 < ny; ++j)
       for (int i = 0; i + 1 < nx; ++i) {
-        long long corner[8];
-        for (int c = 0; c < 8; ++c) corner[c] = id(i + (c & 1), j + ((c >> 1) & 1), k + ((c >> 2) & 1));
-        for (const auto& tet : tets) {
-          std::vector<long long> in, out;
-          for (int c : tet) (value[corner[c]] < 0 ? in : out).push_back(corner[c]);
-          if (in.empty() || out.empty()) continue;
-          Vec3 ci{0, 0, 0}, co{0, 0, 0};
-          for (long long v : in) ci += point(v) / static_cast<double>(in.size());
-          for (long long v : out) co += point(v) / static_cast<double>(out.size());
-          Vec3 outward = co - ci;
-          if (in.size() == 1 || out.size() == 1) {
-            long long apex = in.size() == 1 ? in[0] : out[0];
-            const auto& rest = in.size() == 1 ? out : in;
-            emit(vertex_on(apex, rest[0]), vertex_on(apex, rest[1]), vertex_on(apex, rest[2]), outward);
-          } else {
-            int a = vertex_on(in[0], out[0]), b = vertex_on(in[0], out[1]);
-            int c = vertex_on(in[1], out[1]), d = vertex_on(in[1], out[0]);
-            emit(a, b, c, outward);
-            emit(a, c, d, outward);
-          }
-        }
+        int inside = 0;
+        for (int c = 0; c < 8; ++c) inside += value(i + (c & 1), j + ((c >> 1) & 1), k + (c >> 2)) < 0;
+        if (inside > 0 && inside < 8) band.cells.push_back(proxy::grid_key(i, j, k));
       }
+  TriMesh m = proxy::marching_tetrahedra(band, Progress::none());
 
   std::vector<std::vector<int>> neighbors(m.vertices.size());
   for (const auto& t : m.faces)

@@ -4,7 +4,7 @@
 #include <cmath>
 #include <cstdint>
 
-#include "atlas/triangle_metrics.h"
+#include "soupuv/geometry/triangle_stretch.h"
 
 namespace soupuv::atlas {
 namespace {
@@ -53,7 +53,7 @@ AtlasMetrics measure_atlas(const TriMesh& mesh, const Atlas& atlas) {
     std::array<Vec3, 3> q = {mesh.vertices[mesh.faces[f][0]], mesh.vertices[mesh.faces[f][1]],
                              mesh.vertices[mesh.faces[f][2]]};
     const auto& p = atlas.face_uvs[f];
-    TriangleStretch s = triangle_stretch(q, p);
+    geometry::TriangleStretch s = geometry::triangle_stretch(q, p);
     if (s.area3d <= tiny) continue;
     if (s.area_uv <= 0) { ++m.flipped; continue; }
     sum_l2 += s.l2_squared * s.area3d;

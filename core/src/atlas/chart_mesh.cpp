@@ -1,19 +1,8 @@
 #include "atlas/chart_mesh.h"
 
-#include <numeric>
+#include "soupuv/union_find.h"
 
 namespace soupuv::atlas {
-namespace {
-
-int find_root(std::vector<int>& parent, int x) {
-  while (parent[x] != x) {
-    parent[x] = parent[parent[x]];
-    x = parent[x];
-  }
-  return x;
-}
-
-}  // namespace
 
 ChartMesh extract_chart(const TriMesh& mesh, const MeshTopology& t, const std::vector<int>& faces,
                         const std::vector<int>& face_chart, const std::vector<char>& seam,
@@ -29,8 +18,7 @@ ChartMesh extract_chart(const TriMesh& mesh, const MeshTopology& t, const std::v
   };
 
   // Corners 3*i+k; corners that meet across an interior edge are one vertex.
-  std::vector<int> parent(3 * n);
-  std::iota(parent.begin(), parent.end(), 0);
+  UnionFind corners(3 * size_t(n));
   int boundary_half_edges = 0;
   for (int i = 0; i < n; ++i) {
     int f = faces[i];
@@ -42,16 +30,15 @@ ChartMesh extract_chart(const TriMesh& mesh, const MeshTopology& t, const std::v
       int kk = 0;
       while (t.face_edge[g][kk] != t.face_edge[f][k]) ++kk;
       // Edge k of f runs a->b; the same edge in g runs b->a.
-      auto unite = [&](int x, int y) { parent[find_root(parent, x)] = find_root(parent, y); };
-      unite(3 * i + k, 3 * j + (kk + 1) % 3);
-      unite(3 * i + (k + 1) % 3, 3 * j + kk);
+      corners.unite(3 * i + k, 3 * j + (kk + 1) % 3);
+      corners.unite(3 * i + (k + 1) % 3, 3 * j + kk);
     }
   }
   std::vector<int> local_of_root(3 * n, -1);
   c.tri.resize(n);
   for (int i = 0; i < n; ++i)
     for (int k = 0; k < 3; ++k) {
-      int r = find_root(parent, 3 * i + k);
+      const uint32_t r = corners.find(3 * i + k);
       if (local_of_root[r] < 0) {
         local_of_root[r] = static_cast<int>(c.vertex_global.size());
         int v = mesh.faces[faces[i]][k];

@@ -6,6 +6,7 @@
 #include <climits>
 
 #include "atlas/raster_pack.h"
+#include "atlas/turn_chart.h"
 #include "soupuv/errors.h"
 
 namespace soupuv::atlas {
@@ -53,19 +54,9 @@ struct Pose {
 // The chart turned by `angle` (radians, counter-clockwise: no mirror) with its
 // bounding box's corner moved to the origin.
 Pose make_pose(const std::vector<Vec2>& uv, double angle) {
-  const double c = std::cos(angle), s = std::sin(angle);
-  Pose pose;
-  pose.uv.reserve(uv.size());
-  Vec2 lo{INFINITY, INFINITY}, hi{-INFINITY, -INFINITY};
-  for (Vec2 p : uv) {
-    Vec2 q{c * p.x - s * p.y, s * p.x + c * p.y};
-    lo = {std::min(lo.x, q.x), std::min(lo.y, q.y)};
-    hi = {std::max(hi.x, q.x), std::max(hi.y, q.y)};
-    pose.uv.push_back(q);
-  }
-  for (Vec2& q : pose.uv) q = q - lo;
-  pose.size = hi - lo;
-  return pose;
+  TurnedChart t = turn_chart(uv, angle);
+  for (Vec2& q : t.uv) q = q - t.lo;
+  return {std::move(t.uv), t.hi - t.lo};
 }
 
 // Quarter turn r (0..3) of a point in a w x h box, staying in the positive quadrant.

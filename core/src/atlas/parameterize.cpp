@@ -8,7 +8,8 @@
 #include <Eigen/SparseCholesky>
 
 #include "atlas/stretch_descent.h"
-#include "atlas/triangle_metrics.h"
+#include "soupuv/geometry/flatten_triangle.h"
+#include "soupuv/geometry/triangle_stretch.h"
 
 namespace soupuv::atlas {
 namespace {
@@ -111,7 +112,7 @@ std::vector<Vec2> lscm(const ChartMesh& c) {
   Eigen::VectorXd rhs = Eigen::VectorXd::Zero(free_count);
   const double tiny = degenerate_area(c);
   for (size_t i = 0; i < c.tri.size(); ++i) {
-    auto x = flatten_triangle(corners3d(c, static_cast<int>(i)));
+    auto x = geometry::flatten_triangle(corners3d(c, static_cast<int>(i)));
     double two_area = cross(x[1] - x[0], x[2] - x[0]);
     if (two_area <= 2 * tiny) continue;
     double w = 1.0 / std::sqrt(two_area);
@@ -162,7 +163,7 @@ std::vector<Vec2> arap(const ChartMesh& c, std::vector<Vec2> uv, int iterations)
   std::vector<Triplet> entries;
   entries.reserve(nf * 12);
   for (int i = 0; i < nf; ++i) {
-    flat[i] = flatten_triangle(corners3d(c, i));
+    flat[i] = geometry::flatten_triangle(corners3d(c, i));
     cot[i] = corner_cotangents(flat[i]);
     for (int k = 0; k < 3; ++k) {
       int a = c.tri[i][(k + 1) % 3], b = c.tri[i][(k + 2) % 3];
@@ -262,7 +263,7 @@ bool boundary_self_intersects(const ChartMesh& c, const std::vector<Vec2>& uv) {
 double chart_stretch_l2(const ChartMesh& c, const std::vector<Vec2>& uv) {
   double sum_l2 = 0, a3 = 0, a2 = 0;
   for (size_t i = 0; i < c.tri.size(); ++i) {
-    TriangleStretch s = triangle_stretch(corners3d(c, static_cast<int>(i)),
+    geometry::TriangleStretch s = geometry::triangle_stretch(corners3d(c, static_cast<int>(i)),
                                          corners_uv(c, uv, static_cast<int>(i)));
     sum_l2 += s.l2_squared * s.area3d;
     a3 += s.area3d;

@@ -7,6 +7,7 @@
 #include <numeric>
 
 #include "atlas/chart_raster.h"
+#include "atlas/turn_chart.h"
 
 namespace soupuv::atlas {
 namespace {
@@ -59,24 +60,8 @@ class RowRuns {
 };
 
 // A chart turned by one of the trial angles: every vertex turned (unscaled),
-// and the lower corner of the turned bounding box.
-struct Turn {
-  std::vector<Vec2> uv;
-  Vec2 lo;
-};
-
-Turn make_turn(const std::vector<Vec2>& uv, double angle) {
-  const double c = std::cos(angle), s = std::sin(angle);
-  Turn t;
-  t.uv.reserve(uv.size());
-  t.lo = {INFINITY, INFINITY};
-  for (Vec2 p : uv) {
-    Vec2 q{c * p.x - s * p.y, s * p.x + c * p.y};
-    t.lo = {std::min(t.lo.x, q.x), std::min(t.lo.y, q.y)};
-    t.uv.push_back(q);
-  }
-  return t;
-}
+// and the turned bounding box (turn_chart.h).
+using Turn = TurnedChart;
 
 // Texel position of a turned vertex in the chart's own frame; the raster and
 // the final UVs both come from here, so the written chart lies exactly on the
@@ -171,7 +156,7 @@ RasterPackResult raster_pack(std::vector<PackChart>& charts, int texture_size, d
   std::vector<double> area(n, 0);
   double total_area = 0;
   for (int i = 0; i < n; ++i) {
-    for (int k = 0; k < options.angles; ++k) turns[i].push_back(make_turn(*charts[i].uv, 2 * M_PI * k / options.angles));
+    for (int k = 0; k < options.angles; ++k) turns[i].push_back(turn_chart(*charts[i].uv, 2 * M_PI * k / options.angles));
     const auto& uv = *charts[i].uv;
     for (const auto& t : *charts[i].triangles) area[i] += 0.5 * std::fabs(cross(uv[t[1]] - uv[t[0]], uv[t[2]] - uv[t[0]]));
     total_area += area[i];

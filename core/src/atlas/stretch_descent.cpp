@@ -4,7 +4,7 @@
 #include <cmath>
 #include <limits>
 
-#include "atlas/triangle_metrics.h"
+#include "soupuv/geometry/triangle_stretch.h"
 
 namespace soupuv::atlas {
 namespace {
@@ -35,7 +35,7 @@ std::vector<Vec2> descend_l2_stretch(const ChartMesh& c, std::vector<Vec2> uv, i
   // Faces without 3D area carry no stretch; they only have to stay unfolded.
   auto terms = [&](int f, const std::vector<Vec2>& x) {
     const std::array<Vec2, 3> p = {x[c.tri[f][0]], x[c.tri[f][1]], x[c.tri[f][2]]};
-    const TriangleStretch s = triangle_stretch(q[f], p);
+    const geometry::TriangleStretch s = geometry::triangle_stretch(q[f], p);
     return FaceTerms{s.l2_squared * s.area3d, s.area_uv};
   };
 

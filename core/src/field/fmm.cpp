@@ -11,6 +11,7 @@
 #include <memory>
 
 #include "soupuv/field/triangle_integrals.h"
+#include "soupuv/geometry/closest_point.h"
 #include "tracer_m2l.h"
 
 namespace soupuv::field {
@@ -413,7 +414,7 @@ double Fmm::near_part(int leaf, Vec3 x, double* phi, Vec3* E, bool skip_close, b
         near_potential_field(src_, j, x, phi ? &pj : nullptr, E ? &ej : nullptr);
         f += q * pj;
         ex += q * ej.x; ey += q * ej.y; ez += q * ej.z;
-        if (want_nearest) nearest = std::min(nearest, point_triangle_distance(src_.a[j], src_.b[j], src_.c[j], x));
+        if (want_nearest) nearest = std::min(nearest, geometry::point_triangle_distance(x, src_.a[j], src_.b[j], src_.c[j]));
         continue;
       }
       const Vec3* p = &points_[static_cast<size_t>(k) * m];
@@ -455,7 +456,7 @@ void Fmm::evaluate(Vec3 x, double* phi, Vec3* E, double* nearest_close) const {
       f += tri_charge_[k] * pj;
       e += tri_charge_[k] * ej;
       if (src_.is_near(j, x))
-        nearest = std::min(nearest, point_triangle_distance(src_.a[j], src_.b[j], src_.c[j], x));
+        nearest = std::min(nearest, geometry::point_triangle_distance(x, src_.a[j], src_.b[j], src_.c[j]));
     }
     if (phi) *phi += f;
     if (E) *E += e;

@@ -5,12 +5,13 @@
 // Walks the source tree: a cell is skipped when the segment passes farther
 // from its expansion centre than its radius (which covers every vertex of
 // its triangles); in the leaves left, each triangle is tested exactly
-// (segment_intersects_triangle). O(log n) cells for a short segment.
+// (geometry::segment_crosses_triangle). O(log n) cells for a short segment.
 #include <algorithm>
 #include <vector>
 
 #include "soupuv/field/fmm.h"
 #include "soupuv/field/triangle_integrals.h"
+#include "soupuv/geometry/segment_triangle.h"
 
 namespace soupuv::field {
 
@@ -36,7 +37,7 @@ bool Fmm::segment_crosses(Vec3 a, Vec3 b) const {
     if (c.children == 0) {
       for (int k = c.first; k < c.first + c.count; ++k) {
         const uint32_t j = order_[k];
-        if (segment_intersects_triangle(a, b, src_.a[j], src_.b[j], src_.c[j])) return true;
+        if (geometry::segment_crosses_triangle(a, b, src_.a[j], src_.b[j], src_.c[j])) return true;
       }
       continue;
     }

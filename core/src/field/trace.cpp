@@ -34,6 +34,8 @@
 #include "soupuv/field/sources.h"
 #include "soupuv/field/tracer_field.h"
 #include "soupuv/field/triangle_integrals.h"
+#include "soupuv/geometry/closest_point.h"
+#include "soupuv/geometry/segment_triangle.h"
 
 namespace soupuv::field {
 
@@ -198,7 +200,7 @@ class BatchField {
   bool segment_crosses(Vec3 a, Vec3 b) const {
     if (fmm_) return fmm_->segment_crosses(a, b);
     for (size_t j = 0; j < src_.size(); ++j)
-      if (segment_intersects_triangle(a, b, src_.a[j], src_.b[j], src_.c[j])) return true;
+      if (geometry::segment_crosses_triangle(a, b, src_.a[j], src_.b[j], src_.c[j])) return true;
     return false;
   }
 
@@ -218,7 +220,7 @@ class BatchField {
         unit_potential_field(src_, j, x[i], nullptr, &ej);
         e += charges_[j] * ej;
         if (nearest && src_.area[j] > 0 && src_.is_near(j, x[i]))
-          best = std::min(best, point_triangle_distance(src_.a[j], src_.b[j], src_.c[j], x[i]));
+          best = std::min(best, geometry::point_triangle_distance(x[i], src_.a[j], src_.b[j], src_.c[j]));
       }
       E[i] = e;
       if (nearest) (*nearest)[i] = best;

@@ -11,6 +11,7 @@
 #include "soupuv/field/quadrature.h"
 #include "soupuv/field/sources.h"
 #include "soupuv/field/triangle_integrals.h"
+#include "soupuv/geometry/closest_point.h"
 #include "tracer_closed_form.h"
 #include "tracer_closed_form_batch.h"
 #include "tracer_kernels.h"
@@ -354,7 +355,7 @@ void TracerField::field_outside(Vec3 x, Vec3* E, double* nearest) const {
     unit_potential_field(src, j, x, nullptr, &ej);
     e += tri_charge_[k] * ej;
     if (nearest && src.area[j] > 0 && src.is_near(j, x))
-      *nearest = std::min(*nearest, point_triangle_distance(src.a[j], src.b[j], src.c[j], x));
+      *nearest = std::min(*nearest, geometry::point_triangle_distance(x, src.a[j], src.b[j], src.c[j]));
   }
   *E += e;
 }
@@ -481,7 +482,7 @@ void TracerField::near_candidates(const int* ks, int n, Vec3 x, double* e, doubl
   // distance from below: most near triangles cannot beat the bound.
   auto distance = [&](int k) {
     const tracer::TriangleFrame& f = near_tris_[k].frame;
-    return point_triangle_distance(f.v[0], f.v[1], f.v[2], x);
+    return geometry::point_triangle_distance(x, f.v[0], f.v[1], f.v[2]);
   };
   best = distance(near[closest].first);
   for (size_t c = 0; c < near.size(); ++c) {

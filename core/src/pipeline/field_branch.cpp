@@ -6,9 +6,9 @@
 #include "pipeline/shared_seeds.h"
 #include "soupuv/cache/bytes.h"
 #include "soupuv/proxy/offset_policy.h"
-#include "soupuv/quality/weld.h"
-#include "soupuv/transfer/intersect.h"
-#include "soupuv/transfer/orient.h"
+#include "soupuv/geometry/weld.h"
+#include "soupuv/field/intersect.h"
+#include "soupuv/field/orient.h"
 
 namespace soupuv::pipeline {
 
@@ -41,7 +41,7 @@ std::string trace_params(const FieldBranchOptions& b, const field::TraceOptions&
   for (const Vec3& c : {o.stop_box.lo, o.stop_box.hi}) w.put(c.x), w.put(c.y), w.put(c.z);
   w.put(o.fmm_order), w.put(o.fmm_theta), w.put(o.keep_points), w.put(o.adaptive_step), w.put(o.near_step_fraction);
   w.put(o.max_turn_per_step), w.put(o.max_step_growth), w.put(o.direct), w.put(o.fmm_leaf_size);
-  w.put(o.trapped_steps), w.put(b.trace_cut_probes), w.put(b.orient_sides), w.put(b.share_lines);
+  w.put(o.trapped_steps), w.put(b.orient_sides), w.put(b.share_lines);
   w.put(b.weld_tolerance), w.put(b.weld_edge_fraction), w.put(b.seed_edge_weld_tolerance), w.put(b.seed_edge_fraction);
   return key_part(std::move(w));
 }
@@ -118,15 +118,15 @@ void retrace(const field::ChargeResult& charges, const std::vector<field::TraceS
 void trace_shared(const Soup& soup, const field::ChargeResult& charges,
                   const field::TraceOptions& trace_options, const FieldBranchOptions& options,
                   Progress& progress, FieldBranchResult& r) {
-  const quality::Weld weld =
+  const geometry::Weld weld =
       options.seed_edge_weld_tolerance > 0
-          ? quality::extend_weld(soup, quality::weld_by_edges(soup, options.seed_edge_weld_tolerance, 1.0, false),
+          ? geometry::extend_weld(soup, geometry::weld_by_edges(soup, options.seed_edge_weld_tolerance, 1.0, false),
                                  options.weld_tolerance,
                                  options.seed_edge_fraction > 0 ? options.seed_edge_fraction
                                                                 : options.weld_edge_fraction)
-          : quality::weld_corners(soup, options.weld_tolerance, options.weld_edge_fraction);
-  const auto adjacency = quality::edge_adjacency(weld, soup.triangles.size());
-  const transfer::Orientation orientation = transfer::consistent_orientation(soup, adjacency);
+          : geometry::weld_corners(soup, options.weld_tolerance, options.weld_edge_fraction);
+  const auto adjacency = geometry::edge_adjacency(weld, soup.triangles.size());
+  const field::Orientation orientation = field::consistent_orientation(soup, adjacency);
   SharedSeeds shared = shared_seeds(soup, weld, orientation);
 
   field::TraceStats stats;
@@ -193,16 +193,16 @@ void trace_per_corner(const Soup& soup, const field::ChargeResult& charges,
   field::FieldLines lines = field::trace_field_lines(charges, seeds, trace_options, progress, &stats);
   add_stats(r.trace, stats);
   if (options.orient_sides) {
-    auto adjacency = quality::edge_adjacency(
-        quality::weld_corners(soup, options.weld_tolerance, options.weld_edge_fraction),
+    auto adjacency = geometry::edge_adjacency(
+        geometry::weld_corners(soup, options.weld_tolerance, options.weld_edge_fraction),
         soup.triangles.size());
-    transfer::Orientation orientation = transfer::consistent_orientation(soup, adjacency);
-    transfer::SideChoice sides = transfer::component_sides(soup, orientation, lines);
+    field::Orientation orientation = field::consistent_orientation(soup, adjacency);
+    field::SideChoice sides = field::component_sides(soup, orientation, lines);
     std::vector<field::TraceSeed> again;
     for (size_t i = 0; i < lines.size(); ++i) {
       uint32_t c = lines.corner[i];
       int want = sides.triangle_side[c / 3];
-      if (transfer::line_side(soup, lines, i) != want && seed_of_corner[c] != UINT32_MAX) {
+      if (field::line_side(soup, lines, i) != want && seed_of_corner[c] != UINT32_MAX) {
         field::TraceSeed s = seeds[seed_of_corner[c]];
         s.side = want;
         again.push_back(s);
@@ -215,37 +215,12 @@ void trace_per_corner(const Soup& soup, const field::ChargeResult& charges,
                 {"adjacent_pairs", adjacency.size()},
                 {"retraced_corners", again.size()},
                 {"mixed_side_triangles_before", sides.mixed_triangles_before},
-                {"mixed_side_triangles_after", transfer::mixed_side_triangles(soup, lines)}};
+                {"mixed_side_triangles_after", field::mixed_side_triangles(soup, lines)}};
   } else {
-    size_t mixed = transfer::mixed_side_triangles(soup, lines);
+    size_t mixed = field::mixed_side_triangles(soup, lines);
     r.orient = {{"enabled", false},
                 {"mixed_side_triangles_before", mixed},
                 {"mixed_side_triangles_after", mixed}};
-  }
-  // Probe points inside the kept piece of each cut triangle, traced on that
-  // triangle's side.
-  if (!options.trace_cut_probes) r.probes.clear();
-  if (!r.probes.empty()) {
-    std::vector<int8_t> triangle_side(soup.triangles.size(), 0);  // the side its lines took
-    for (size_t l = 0; l < lines.size(); ++l)
-      if (lines.corner[l] / 3 < soup.triangles.size())
-        triangle_side[lines.corner[l] / 3] = int8_t(transfer::line_side(soup, lines, l));
-    std::vector<field::TraceSeed> probe_seeds;
-    for (size_t i = 0; i < r.probes.size(); ++i) {
-      uint32_t t = r.probes[i].triangle;
-      int side = triangle_side[t];
-      for (int k = 0; k < 3; ++k) {
-        field::TraceSeed s;
-        s.position = r.probes[i].points[k];
-        s.normal = triangle_normal(soup, t);
-        s.side = side;
-        s.corner = uint32_t(3 * i + k);
-        probe_seeds.push_back(s);
-      }
-    }
-    field::TraceStats more;
-    r.probe_lines = field::trace_field_lines(charges, probe_seeds, trace_options, progress, &more);
-    add_stats(r.trace, more);
   }
   r.lines = std::move(lines);
 }
@@ -298,11 +273,6 @@ FieldBranchResult run_field_branch(const Soup& soup, const std::string& soup_has
     if (hit && (corners || !options.share_lines)) {
       // The lines carry everything downstream needs; charges are not even read.
       r.lines = decode_lines(*hit);
-      if (auto probes = cache->get(lines_key + ".probes")) {
-        cache::ByteReader rd(*probes);
-        r.probes = rd.get_vector<transfer::CutProbe>();
-        r.probe_lines = decode_lines(rd.get_vector<uint8_t>());
-      }
       if (corners) {
         cache::ByteReader rd(*corners);
         r.line_of_corner = rd.get_vector<uint32_t>();
@@ -328,19 +298,14 @@ FieldBranchResult run_field_branch(const Soup& soup, const std::string& soup_has
     r.charges_cached = true;
     if (auto meta = cache->get(charge_key + ".json"))
       r.intersections = nlohmann::json::parse(meta->begin(), meta->end());
-    if (auto probes = cache->get(charge_key + ".probes")) {
-      cache::ByteReader rd(*probes);
-      r.probes = rd.get_vector<transfer::CutProbe>();
-    }
   } else {
     auto t0 = std::chrono::steady_clock::now();
     const Soup* charged = &soup;
-    transfer::IntersectionRefinement refinement;
+    field::IntersectionRefinement refinement;
     if (options.refine_intersections) {
-      refinement = transfer::refine_intersections(soup, progress);
+      refinement = field::refine_intersections(soup, progress);
       charged = &refinement.soup;
       r.intersections = refinement.diagnostics();
-      r.probes = refinement.probes;
     }
     r.seconds_refine = since(t0);
     r.intersections["seconds"] = r.seconds_refine;
@@ -351,9 +316,6 @@ FieldBranchResult run_field_branch(const Soup& soup, const std::string& soup_has
       cache->put(charge_key, encode(charges));
       std::string meta = r.intersections.dump();
       cache->put(charge_key + ".json", cache::Bytes(meta.begin(), meta.end()));
-      cache::ByteWriter w;
-      w.put_vector(r.probes);
-      cache->put(charge_key + ".probes", w.take());
     }
   }
   r.charge = charge_json(charges);
@@ -364,11 +326,9 @@ FieldBranchResult run_field_branch(const Soup& soup, const std::string& soup_has
   r.trace = nlohmann::json::object();
   if (options.share_lines) {
     trace_shared(soup, charges, trace_options, options, progress, r);
-    r.probes.clear();  // cut-triangle probes pair with per-corner lines only
   } else {
     trace_per_corner(soup, charges, trace_options, options, progress, r);
   }
-  r.trace["probe_lines"] = r.probe_lines.size();
   r.seconds_trace = since(t2);
   r.trace["cached"] = false;
   if (cache) {
@@ -377,10 +337,6 @@ FieldBranchResult run_field_branch(const Soup& soup, const std::string& soup_has
                            {"intersections", r.intersections}};
     std::string m = meta.dump();
     cache->put(lines_key + ".json", cache::Bytes(m.begin(), m.end()));
-    cache::ByteWriter w;
-    w.put_vector(r.probes);
-    w.put_vector(encode(r.probe_lines));
-    cache->put(lines_key + ".probes", w.take());
     cache::ByteWriter wc;
     wc.put_vector(r.line_of_corner);
     cache->put(lines_key + ".corners", wc.take());

@@ -15,7 +15,6 @@
 #include "soupuv/progress.h"
 #include "soupuv/proxy/proxy.h"
 #include "soupuv/soup.h"
-#include "soupuv/transfer/intersect.h"
 
 namespace soupuv::pipeline {
 
@@ -23,7 +22,6 @@ struct FieldBranchOptions {
   field::ChargeOptions charge;
   field::TraceOptions trace;
   bool refine_intersections = true;
-  bool trace_cut_probes = false;   // probes of cut triangles (intersect.h)
   bool orient_sides = true;
   // Copies of one welded position share one field line (shared_seeds.h);
   // false: one line per corner from its own triangle (the paper's seeding).
@@ -31,13 +29,13 @@ struct FieldBranchOptions {
   double weld_tolerance = 0;       // absolute
   double weld_edge_fraction = 0.3;
   // > 0 (absolute): the shared lines' seeds weld by matching edges first
-  // (quality::weld_by_edges at this tolerance), then by corner distance on
-  // top (quality::extend_weld, weld_tolerance / weld_edge_fraction), so that
+  // (geometry::weld_by_edges at this tolerance), then by corner distance on
+  // top (geometry::extend_weld, weld_tolerance / weld_edge_fraction), so that
   // copies of a vertex start one line where position alone is ambiguous.
   // 0: corner distance alone. The orientation uses the same weld.
   double seed_edge_weld_tolerance = 0;
   // ... and the distance weld on top of it then uses this edge fraction
-  // (quality::weld_corners' edge_fraction); 0: weld_edge_fraction.
+  // (geometry::weld_corners' edge_fraction); 0: weld_edge_fraction.
   double seed_edge_fraction = 0;
   int threads = 1;
   // How far from the soup any proxy the pipeline may build can lie
@@ -86,10 +84,6 @@ struct FieldBranchResult {
   // With shared lines: the line of every soup corner (lines.corner names one
   // corner per line). Empty: line i belongs to corner lines.corner[i] alone.
   std::vector<uint32_t> line_of_corner;
-  // Cut triangles (§12.1): probe points and their lines (line i: probe i/3,
-  // point i%3), for transfer::apply_cut_probes.
-  std::vector<transfer::CutProbe> probes;
-  field::FieldLines probe_lines;
   nlohmann::json charge;        // charge diagnostics (solver, history, ...)
   nlohmann::json trace;         // trace diagnostics (ends, steps, ...)
   nlohmann::json orient;        // side choice

@@ -30,18 +30,4 @@ proxy::ProxyOptions map_proxy_defaults() {
   return o;
 }
 
-std::vector<MapCandidate> map_candidates() {
-  // The candidates and what they measured: docs/tuning.md, "map_candidates". Unused
-  // by default since the soup UV solve (MapOptions::soup_uv_solve).
-  auto variant = [](const char* name, double cone, double merge_stretch, int sweeps, double offset = 0) {
-    MapCandidate c{name, map_atlas_defaults(), offset};
-    c.atlas.merge_max_normal_deviation_deg = cone;
-    c.atlas.merge_max_stretch = merge_stretch;
-    c.atlas.merge_stretch_sweeps = sweeps;
-    return c;
-  };
-  return {MapCandidate{"default", map_atlas_defaults(), 0}, variant("nc110", 0, 1.1, 0),
-          variant("nc120d", 0, 1.2, 30), variant("nc150d", 0, 1.5, 30), variant("o37d", 0, 1.25, 30, 0.037)};
-}
-
 }  // namespace soupuv

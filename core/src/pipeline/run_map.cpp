@@ -8,7 +8,6 @@
 #include <thread>
 
 #include "pipeline/field_branch.h"
-#include "pipeline/candidates.h"
 #include "pipeline/proxy_branch.h"
 #include "pipeline/uv_stage.h"
 #include "pipeline/weld_cache.h"
@@ -34,39 +33,34 @@ Progress child_of(Progress& parent) {
   return Progress([&parent](std::string_view stage, double f) { parent.update(stage, f); });
 }
 
-// The soup's corners welded by position: the metric's weld without an
-// original, and always the candidate choice's.
-quality::Weld soup_weld(const Soup& soup, const MapOptions& options) {
+// The metric's weld: the original's own vertices, else the soup's corners
+// welded by position.
+geometry::Weld metric_weld(const Soup& soup, const MapOptions& options) {
+  if (options.original) return geometry::weld_corners(*options.original, 0.0);
   const double diag = bounding_box(soup).diagonal();
-  return quality::weld_corners(soup, options.weld_tolerance * diag, options.weld_edge_fraction);
+  return geometry::weld_corners(soup, options.weld_tolerance * diag, options.weld_edge_fraction);
 }
 
-// The atlas options a run uses. With the soup UV solve on, the proxy
-// atlas's layout is not the output's (the solve packs the soup's islands
-// itself): the column packer alone lays the charts out, without the bitmap
-// packer's turns and scale search, which were most of the atlas's time
-// (docs/tuning.md, "The proxy atlas's packing").
-atlas::AtlasOptions atlas_for_run(const atlas::AtlasOptions& atlas, const MapOptions& options) {
+// The atlas options a run uses. The proxy atlas's layout is not the
+// output's (the soup UV solve packs the soup's islands itself): the column
+// packer alone lays the charts out, without the bitmap packer's turns and
+// scale search, which were most of the atlas's time (docs/tuning.md, "The
+// proxy atlas's packing").
+atlas::AtlasOptions atlas_for_run(const atlas::AtlasOptions& atlas) {
   atlas::AtlasOptions a = atlas;
-  if (options.soup_uv_solve) a.pack_angles = 0;
+  a.pack_angles = 0;
   return a;
 }
 
-// The metric's weld: the original's own vertices, else soup_weld.
-quality::Weld metric_weld(const Soup& soup, const MapOptions& options) {
-  if (options.original) return quality::weld_corners(*options.original, 0.0);
-  return soup_weld(soup, options);
-}
-
-std::vector<quality::AdjacentPair> metric_pairs(const Soup& soup, const MapOptions& options) {
+std::vector<geometry::AdjacentPair> metric_pairs(const Soup& soup, const MapOptions& options) {
   return options.original ? quality::metric_adjacency(soup, options.original, 0)
-                          : quality::edge_adjacency(metric_weld(soup, options), soup.triangles.size());
+                          : geometry::edge_adjacency(metric_weld(soup, options), soup.triangles.size());
 }
 
 // uv.continuity_bound: what a low-distortion atlas can hardly beat (a cube:
 // 11/18); an estimate (continuity_bound.h says where it is exceeded).
 void add_continuity_bound(nlohmann::json& uv, const Soup& soup, const MapOptions& options,
-                          const std::vector<quality::AdjacentPair>& adjacency,
+                          const std::vector<geometry::AdjacentPair>& adjacency,
                           std::vector<std::string>& warnings) {
   const Soup& shape = options.original ? *options.original : soup;
   if (shape.triangles.size() != soup.triangles.size()) return;
@@ -80,7 +74,7 @@ void add_continuity_bound(nlohmann::json& uv, const Soup& soup, const MapOptions
 }
 
 quality::UvMetrics measure(const Soup& soup, const std::vector<std::array<Vec2, 3>>& uvs,
-                           const std::vector<quality::AdjacentPair>& adjacency,
+                           const std::vector<geometry::AdjacentPair>& adjacency,
                            const MapOptions& options, double uv_per_length, double& seconds) {
   auto t0 = Clock::now();
   quality::UvMetricsOptions mo;
@@ -118,15 +112,10 @@ nlohmann::json cache_json(cache::Store* store, size_t hits, size_t misses) {
 }
 
 // Per-triangle flags for the stretch tail's classes (quality/stretch_tail.h).
-quality::TailFlags tail_flags(const Soup& soup, const pipeline::FieldBranchResult& field,
-                              const quality::Weld& weld, const quality::CornerLanding& landed,
-                              const std::vector<std::array<Vec2, 3>>& unrepaired,
-                              const std::vector<std::array<Vec2, 3>>& uvs) {
+quality::TailFlags tail_flags(const Soup& soup, const geometry::Weld& weld,
+                              const quality::CornerLanding& landed) {
   const size_t n = soup.triangles.size();
   quality::TailFlags f;
-  f.cut.assign(n, 0);
-  for (const auto& p : field.probes)
-    if (p.corner_off[0] || p.corner_off[1] || p.corner_off[2]) f.cut[p.triangle] = 1;
   if (weld.corner_vertex.size() == 3 * n) {
     // A welded vertex used on two charts lies on a seam or an open chart border.
     std::vector<int> chart_of(weld.vertex_count, -1);
@@ -139,96 +128,7 @@ quality::TailFlags tail_flags(const Soup& soup, const pipeline::FieldBranchResul
     f.chart_border.assign(n, 0);
     for (size_t c = 0; c < 3 * n; ++c) f.chart_border[c / 3] |= border[weld.corner_vertex[c]];
   }
-  if (unrepaired.size() == n) {
-    f.repaired.assign(n, 0);
-    for (size_t t = 0; t < n; ++t)
-      for (int k = 0; k < 3; ++k)
-        f.repaired[t] |= unrepaired[t][k].x != uvs[t][k].x || unrepaired[t][k].y != uvs[t][k].y;
-  }
   return f;
-}
-
-// The candidate search: candidate 0 is the run already made (pb, uv); each
-// further one gets its proxy (rebuilt only for its own offset), its atlas and
-// the UV stage against the same field. The choice sees the weld-inferred
-// adjacency only. pb and uv become the chosen candidate's. Returns
-// atlas.candidates.
-nlohmann::json search_candidates(const Soup& soup, const pipeline::FieldBranchResult& field,
-                                 const MapOptions& options, pipeline::UvStageWelds& welds,
-                                 int threads, pipeline::ProxyBranch& pb, pipeline::UvStage& uv,
-                                 Progress& progress) {
-  const std::vector<quality::AdjacentPair> weld_pairs =
-      options.original ? quality::edge_adjacency(soup_weld(soup, options), soup.triangles.size())
-                       : *welds.adjacency;
-  const size_t k = options.candidates.size();
-  auto figures_of = [&](const pipeline::ProxyBranch& b, const pipeline::UvStage& u, size_t i) {
-    quality::UvMetricsOptions mo;
-    mo.texture_size = options.metrics_texture_size;
-    mo.uv_per_length = b.atlas.atlas.uv_per_length;
-    const quality::UvMetrics m = quality::uv_metrics(soup, u.tr.corner_uvs, weld_pairs, mo);
-    pipeline::CandidateFigures f;
-    f.name = options.candidates[i].name;
-    f.continuity = m.continuity;
-    f.flipped_fraction = m.flipped_fraction;
-    f.stretch_l2 = m.stretch_l2;
-    f.charts = b.atlas.atlas.chart_count;
-    if (u.island.value("ran", false)) {
-      f.island_relaxed = u.island.value("relaxed", 0L);
-      f.island_l2_before = u.island.value("stretch_l2_before", 0.0);
-      f.island_largest = nlohmann::json::array();
-      for (const auto& g : u.island["per_island"])
-        if (f.island_largest.size() < 3)
-          f.island_largest.push_back({g["triangles"], g["outcome"], g["stretch_l2_before"], g["stretch_l2_after"]});
-    }
-    return f;
-  };
-  progress.update("candidates", 0);  // an edge report: always delivered
-  std::vector<pipeline::CandidateFigures> figures;
-  auto t0 = Clock::now();
-  figures.push_back(figures_of(pb, uv, 0));
-  figures[0].seconds = pb.seconds_proxy + pb.seconds_atlas + uv.seconds_transfer + uv.seconds_repair +
-                       uv.seconds_island + since(t0);
-  pipeline::ProxyBranch best_branch;
-  pipeline::UvStage best_uv;
-  for (size_t i = 1; i < k; ++i) {
-    // One fraction per candidate: the stages inside restart their own.
-    const double at = double(i) / double(k);
-    Progress inner([&progress, at](std::string_view, double) { progress.update("candidates", at); });
-    progress.update("candidates", at);
-    const MapCandidate& c = options.candidates[i];
-    // The caller's seam hints hold for every candidate (a candidate chosen
-    // without them would silently drop them).
-    atlas::AtlasOptions candidate_atlas = atlas_for_run(c.atlas, options);
-    candidate_atlas.seam_hints = options.atlas.seam_hints;
-    auto t_candidate = Clock::now();
-    pipeline::ProxyBranch b;
-    if (c.proxy_offset_fraction > 0) {
-      proxy::ProxyOptions po = options.proxy;
-      po.offset_mode = proxy::OffsetMode::relative;
-      po.offset = c.proxy_offset_fraction;
-      b = pipeline::run_proxy_branch(soup, po, candidate_atlas, options.relax_max_soup_per_proxy_face, threads, inner);
-    } else {
-      b.proxy = pb.proxy;  // the first proxy: its atlas alone differs
-      pipeline::build_branch_atlas(soup, b, candidate_atlas, options.relax_max_soup_per_proxy_face, threads, inner);
-    }
-    pipeline::UvStage u = pipeline::run_uv_stage(soup, field, b, options, welds, threads, inner);
-    pipeline::CandidateFigures f = figures_of(b, u, i);
-    f.proxy_rebuilt = c.proxy_offset_fraction > 0;
-    f.seconds = since(t_candidate);
-    figures.push_back(f);
-    // Keep only the best so far besides the first run.
-    if (pipeline::choose_candidate(figures, options) == i) {
-      best_branch = std::move(b);
-      best_uv = std::move(u);
-    }
-  }
-  progress.update("candidates", 1);
-  const size_t chosen = pipeline::choose_candidate(figures, options);
-  if (chosen != 0) {
-    pb = std::move(best_branch);
-    uv = std::move(best_uv);
-  }
-  return pipeline::candidates_json(figures, chosen, options);
 }
 
 MapResult run_box(const Soup& soup, const MapOptions& options, Progress& progress) {
@@ -282,7 +182,6 @@ MapResult run_map(const Soup& soup, const MapOptions& options, Progress& progres
   fo.charge = options.charge;
   fo.trace = options.trace;
   fo.refine_intersections = options.refine_intersections;
-  fo.trace_cut_probes = options.refine_intersections && options.cut_probe_extrapolation;
   fo.orient_sides = options.orient_sides;
   fo.share_lines = options.share_lines;
   fo.weld_tolerance = options.weld_tolerance * diag;
@@ -311,7 +210,7 @@ MapResult run_map(const Soup& soup, const MapOptions& options, Progress& progres
   pipeline::ProxyBranch pb;
   std::exception_ptr proxy_error;
   try {
-    pb = pipeline::run_proxy_branch(soup, options.proxy, atlas_for_run(options.atlas, options),
+    pb = pipeline::run_proxy_branch(soup, options.proxy, atlas_for_run(options.atlas),
                                     options.relax_max_soup_per_proxy_face, proxy_threads, proxy_progress);
   } catch (...) {
     proxy_error = std::current_exception();
@@ -329,61 +228,30 @@ MapResult run_map(const Soup& soup, const MapOptions& options, Progress& progres
 
   // Transfer: the branches meet.
   auto t_weld = Clock::now();
-  quality::Weld weld;
   bool weld_cached = false;
-  if (options.chart_fix_neighbours || options.uv_repair)
-    weld = pipeline::cached_weld(
-        options.cache, hash,
-        options.weld_by_edges
-            ? pipeline::weld_recipe("edges-consistent", {options.edge_weld_tolerance * diag, 1.0})
-            : pipeline::weld_recipe("corners", {options.weld_tolerance * diag, options.weld_edge_fraction}),
-        [&] {
-          return options.weld_by_edges
-                     ? quality::weld_by_edges(soup, options.edge_weld_tolerance * diag, 1.0, false)
-                     : quality::weld_corners(soup, options.weld_tolerance * diag, options.weld_edge_fraction);
-        },
-        weld_cached);
-  std::vector<quality::AdjacentPair> neighbours;
-  if (options.chart_fix_neighbours) neighbours = quality::edge_adjacency(weld, soup.triangles.size());
+  const geometry::Weld weld = pipeline::cached_weld(
+      options.cache, hash,
+      options.weld_by_edges
+          ? pipeline::weld_recipe("edges-consistent", {options.edge_weld_tolerance * diag, 1.0})
+          : pipeline::weld_recipe("corners", {options.weld_tolerance * diag, options.weld_edge_fraction}),
+      [&] {
+        return options.weld_by_edges
+                   ? geometry::weld_by_edges(soup, options.edge_weld_tolerance * diag, 1.0, false)
+                   : geometry::weld_corners(soup, options.weld_tolerance * diag, options.weld_edge_fraction);
+      },
+      weld_cached);
+  std::vector<geometry::AdjacentPair> neighbours;
+  if (options.chart_fix_neighbours) neighbours = geometry::edge_adjacency(weld, soup.triangles.size());
   const auto adjacency = metric_pairs(soup, options);
   const double seconds_weld = since(t_weld);
-  pipeline::UvStageWelds welds{&weld, options.chart_fix_neighbours ? &neighbours : nullptr, &adjacency,
-                               options.cache, hash, nullptr, nullptr};
+  const pipeline::UvStageWelds welds{&weld, options.chart_fix_neighbours ? &neighbours : nullptr};
   pipeline::UvStage uv = pipeline::run_uv_stage(soup, field, pb, options, welds, total_threads, progress);
 
-  // Candidates (pipeline/candidates.h): the same field landed on other
-  // (proxy, atlas) variants; the best by weld-measured quality is kept.
-  // The stages' seconds are the first run's; the other candidates' time is
-  // the "candidates" stage's, so the stages add up to the run.
-  const double seconds_proxy = pb.seconds_proxy, seconds_atlas = pb.seconds_atlas;
-  const double seconds_transfer = uv.seconds_transfer, seconds_repair = uv.seconds_repair,
-               seconds_island = uv.seconds_island, seconds_solve = uv.seconds_solve;
-  nlohmann::json candidates_list, candidate_search;
-  double seconds_candidates = 0;
-  const double coarseness = pipeline::soup_per_proxy_face(soup, pb.proxy);
-  const bool search = !options.soup_uv_solve &&
-                      pipeline::candidate_search_runs(soup.triangles.size(), coarseness, options);
-  if (search) {
-    auto t_candidates = Clock::now();
-    candidates_list = search_candidates(soup, field, options, welds, total_threads, pb, uv, progress);
-    seconds_candidates = since(t_candidates);
-  }
-  if (options.candidates.size() > 1)
-    candidate_search = {{"ran", search},
-                        {"offered", options.candidates.size()},
-                        {"max_triangles", options.candidates_max_triangles},
-                        {"soup_per_proxy_face", coarseness},
-                        {"seconds", seconds_candidates}};
   transfer::TransferResult& tr = uv.tr;
-  const size_t cut_corrected = uv.cut_corrected;
-  const std::vector<std::array<Vec2, 3>>& unrepaired = uv.unrepaired;
-  nlohmann::json& repair_json = uv.repair;
   double metric_seconds = 0;
   // After the UV solve the map has its own density (0: derived from it, as
   // eval/uvmetrics.py derives it).
-  quality::UvMetrics m = measure(soup, tr.corner_uvs, adjacency, options,
-                                 options.soup_uv_solve ? 0.0 : pb.atlas.atlas.uv_per_length,
-                                 metric_seconds);
+  quality::UvMetrics m = measure(soup, tr.corner_uvs, adjacency, options, 0.0, metric_seconds);
   auto t_report = Clock::now();
   quality::CornerLanding landed;
   landed.missed = tr.missed;
@@ -397,11 +265,10 @@ MapResult run_map(const Soup& soup, const MapOptions& options, Progress& progres
     for (size_t l = 0; l < field.lines.size(); ++l)
       if (field.lines.corner[l] < landed.line.size()) landed.line[field.lines.corner[l]] = uint32_t(l);
   }
-  landed.before_repair = unrepaired;
   const quality::DiscontinuityBreakdown causes = quality::discontinuity_breakdown(
       soup, tr.corner_uvs, adjacency, landed, options.metrics_texture_size, m.uv_per_length);
   const quality::StretchTail tail = quality::stretch_tail(
-      soup, tr.corner_uvs, landed, tail_flags(soup, field, weld, landed, unrepaired, tr.corner_uvs));
+      soup, tr.corner_uvs, landed, tail_flags(soup, weld, landed));
 
   MapResult r;
   r.corner_uvs.reserve(3 * soup.triangles.size());
@@ -415,16 +282,13 @@ MapResult run_map(const Soup& soup, const MapOptions& options, Progress& progres
       {"intersections", {{"seconds", field.seconds_refine}}},
       {"charge", {{"seconds", field.seconds_charge}, {"cached", field.charges_cached}}},
       {"trace", {{"seconds", field.seconds_trace}, {"cached", field.lines_cached}}},
-      {"proxy", {{"seconds", seconds_proxy}}},
-      {"atlas", {{"seconds", seconds_atlas}}},
-      {"transfer", {{"seconds", seconds_transfer}}},
-      {"uv_repair", {{"seconds", seconds_repair}}},
-      {"island_relax", {{"seconds", seconds_island}}},
-      {"uv_solve", {{"seconds", seconds_solve}}},
+      {"proxy", {{"seconds", pb.seconds_proxy}}},
+      {"atlas", {{"seconds", pb.seconds_atlas}}},
+      {"transfer", {{"seconds", uv.seconds_transfer}}},
+      {"uv_solve", {{"seconds", uv.seconds_solve}}},
       {"metrics", {{"seconds", metric_seconds}}}};
-  if (search) d["stages"]["candidates"] = {{"seconds", seconds_candidates}};
   // The rest of the run, so the stages add up: the soup's welds for §8, the
-  // repair and the metric; the field branch's cache look-up and decoding
+  // UV solve and the metric; the field branch's cache look-up and decoding
   // when it computed nothing; the report's breakdowns below (filled in last).
   d["stages"]["weld"] = {{"seconds", seconds_weld}, {"cached", weld_cached}};
   if (field.lines_cached) d["stages"]["field_cache"] = {{"seconds", seconds_field_branch}};
@@ -435,8 +299,6 @@ MapResult run_map(const Soup& soup, const MapOptions& options, Progress& progres
   d["atlas"] = pb.atlas.diagnostics();
   d["atlas"]["charts"] = pb.atlas.atlas.chart_count;
   d["atlas"]["uv_per_length"] = pb.atlas.atlas.uv_per_length;
-  if (search) d["atlas"]["candidates"] = candidates_list;
-  if (!candidate_search.is_null()) d["atlas"]["candidate_search"] = candidate_search;
   d["charge"] = field.charge;
   d["trace"] = field.trace;
   d["trace"]["lines"] = tr.lines;
@@ -448,18 +310,12 @@ MapResult run_map(const Soup& soup, const MapOptions& options, Progress& progres
   d["trace"]["untraced_corners"] = tr.untraced_corners;
   d["orient"] = field.orient;
   d["intersections"] = field.intersections;
-  d["intersections"]["corrected_triangles"] = cut_corrected;
   d["transfer"] = {{"multi_chart_triangles", tr.multi_chart_triangles},
-                   {"corrected_triangles", tr.corrected_triangles},
-                   {"cut_triangles_corrected", cut_corrected}};
+                   {"corrected_triangles", tr.corrected_triangles}};
   d["uv"] = uv_json(m, soup, options);
   d["uv"]["causes"] = causes.to_json();
   d["uv"]["stretch_tail"] = tail.to_json();
-  d["uv"]["repaired_vertices"] = repair_json.value("repaired_vertices", 0);
-  d["uv"]["repaired_triangles"] = repair_json.value("repaired_triangles", 0);
-  d["uv_repair"] = repair_json;
-  d["island_relax"] = uv.island;
-  if (options.soup_uv_solve) d["uv_solve"] = uv.solve;
+  d["uv_solve"] = uv.solve;
   size_t hits = size_t(field.charges_cached) + size_t(field.lines_cached);
   size_t misses = 2 - hits;
   d["cache"] = cache_json(options.cache, options.cache ? hits : 0, options.cache ? misses : 0);

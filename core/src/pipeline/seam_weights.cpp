@@ -3,7 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
-#include "soupuv/transfer/triangle_bvh.h"
+#include "soupuv/geometry/surface_hit_bvh.h"
 
 namespace soupuv {
 
@@ -16,7 +16,7 @@ std::vector<double> soup_seam_weights(const Soup& soup, const TriMesh& proxy, in
   soup_mesh.faces.reserve(soup.triangles.size());
   for (const Tri& t : soup.triangles)
     soup_mesh.faces.push_back({static_cast<int>(t[0]), static_cast<int>(t[1]), static_cast<int>(t[2])});
-  const transfer::TriangleBvh bvh(soup_mesh);
+  const geometry::SurfaceHitBvh bvh(soup_mesh);
 
   std::vector<double> half_perimeter(soup.triangles.size()), area(soup.triangles.size());
   for (size_t i = 0; i < soup.triangles.size(); ++i) {
@@ -37,7 +37,7 @@ std::vector<double> soup_seam_weights(const Soup& soup, const TriMesh& proxy, in
     const auto& tri = proxy.faces[f];
     const Vec3 a = proxy.vertices[tri[0]], b = proxy.vertices[tri[1]], c = proxy.vertices[tri[2]];
     face_area[f] = 0.5 * norm(cross(b - a, c - a));
-    const transfer::SurfacePoint near = bvh.closest_point((a + b + c) / 3.0);
+    const geometry::SurfacePoint near = bvh.closest_point((a + b + c) / 3.0);
     if (!near.found()) continue;
     const Vec3 h{half, half, half};
     double perimeter_sum = 0, area_sum = 0;

@@ -4,8 +4,8 @@
 
 namespace soupuv::pipeline {
 
-SharedSeeds shared_seeds(const Soup& soup, const quality::Weld& weld,
-                         const transfer::Orientation& orientation) {
+SharedSeeds shared_seeds(const Soup& soup, const geometry::Weld& weld,
+                         const field::Orientation& orientation) {
   SharedSeeds s;
   const size_t corners = 3 * soup.triangles.size();
   s.group_of_corner.assign(corners, UINT32_MAX);

@@ -9,8 +9,8 @@
 // construction where the copies weld) and traces about six times fewer lines
 // on a closed soup.
 //
-// Input : a soup, its weld (quality::weld_corners) and a consistent
-//         orientation (transfer::consistent_orientation) of the weld's graph.
+// Input : a soup, its weld (geometry::weld_corners) and a consistent
+//         orientation (field::consistent_orientation) of the weld's graph.
 // Output: one group per (welded vertex, orientation component); per group a
 //         seed at the mean of its copies, along the area-weighted mean of their
 //         consistently oriented normals (side 0: the tracer picks by |E|), and
@@ -21,9 +21,9 @@
 #include <vector>
 
 #include "soupuv/field/field.h"
-#include "soupuv/quality/weld.h"
+#include "soupuv/geometry/weld.h"
 #include "soupuv/soup.h"
-#include "soupuv/transfer/orient.h"
+#include "soupuv/field/orient.h"
 
 namespace soupuv::pipeline {
 
@@ -36,8 +36,8 @@ struct SharedSeeds {
   std::vector<double> area;               // per group: area of its triangles (vote weight)
 };
 
-SharedSeeds shared_seeds(const Soup& soup, const quality::Weld& weld,
-                         const transfer::Orientation& orientation);
+SharedSeeds shared_seeds(const Soup& soup, const geometry::Weld& weld,
+                         const field::Orientation& orientation);
 
 // The side (+1 / -1 along seeds[g].normal) line l left on: the sign of
 // (p - start) . normal for its first point off the start's plane; 0 if none.

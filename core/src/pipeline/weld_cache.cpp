@@ -20,20 +20,20 @@ std::string weld_recipe(const std::string& kind, std::initializer_list<double> p
   return std::string(bytes.begin(), bytes.end());
 }
 
-quality::Weld cached_weld(cache::Store* store, const std::string& soup_hash, const std::string& recipe,
-                          const std::function<quality::Weld()>& compute, bool& hit) {
+geometry::Weld cached_weld(cache::Store* store, const std::string& soup_hash, const std::string& recipe,
+                          const std::function<geometry::Weld()>& compute, bool& hit) {
   hit = false;
   if (!store) return compute();
   const std::string key = cache::cache_key({"weld", kWeldCacheVersion, soup_hash, recipe});
   if (auto bytes = store->get(key)) {
     cache::ByteReader rd(*bytes);
-    quality::Weld w;
+    geometry::Weld w;
     w.vertex_count = rd.get<uint32_t>();
     w.corner_vertex = rd.get_vector<uint32_t>();
     hit = true;
     return w;
   }
-  quality::Weld w = compute();
+  geometry::Weld w = compute();
   cache::ByteWriter wr;
   wr.put<uint32_t>(w.vertex_count);
   wr.put_vector(w.corner_vertex);

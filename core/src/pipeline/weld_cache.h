@@ -16,14 +16,14 @@
 #include <functional>
 #include <string>
 
-#include "soupuv/quality/weld.h"
+#include "soupuv/geometry/weld.h"
 
 namespace soupuv::cache { class Store; }
 
 namespace soupuv::pipeline {
 
-quality::Weld cached_weld(cache::Store* store, const std::string& soup_hash, const std::string& recipe,
-                          const std::function<quality::Weld()>& compute, bool& hit);
+geometry::Weld cached_weld(cache::Store* store, const std::string& soup_hash, const std::string& recipe,
+                          const std::function<geometry::Weld()>& compute, bool& hit);
 
 // "name a=1.2345 b=..." with every number at full precision, for recipes.
 std::string weld_recipe(const std::string& kind, std::initializer_list<double> parameters);

@@ -15,7 +15,6 @@
 #include "soupuv/errors.h"
 #include "soupuv/proxy/collapse_short_edges.h"
 #include "soupuv/proxy/components.h"
-#include "soupuv/proxy/gap_offsets.h"
 #include "soupuv/proxy/lift_to_offset.h"
 #include "soupuv/proxy/marching_cubes.h"
 #include "soupuv/proxy/marching_tetrahedra.h"
@@ -23,7 +22,7 @@
 #include "soupuv/proxy/narrow_band.h"
 #include "soupuv/proxy/offset_policy.h"
 #include "soupuv/proxy/taubin_smooth.h"
-#include "soupuv/proxy/triangle_bvh.h"
+#include "soupuv/geometry/distance_bvh.h"
 
 namespace soupuv::proxy {
 namespace {
@@ -59,9 +58,6 @@ void validate(const Soup& soup, const ProxyOptions& o) {
     throw Error(ErrorCode::invalid_input, "proxy: resolution out of range (2 .. 4096)");
   if (o.smoothing_iterations < 0 || o.remesh_iterations < 0 || o.target_edge_length < 0)
     throw Error(ErrorCode::invalid_input, "proxy: negative iterations or edge length");
-  if (o.keep_gaps && !(o.gap_resolution_factor >= 1 && o.gap_resolution_factor <= 8 && o.gap_min_offset_cells > 0 &&
-                       o.gap_margin_cells >= 0 && o.gap_weld_fraction >= 0))
-    throw Error(ErrorCode::invalid_input, "proxy: gap options out of range");
 }
 
 // Corners the soup's triangles use: what "encloses the soup" is checked on.
@@ -87,7 +83,7 @@ struct Extraction {
   double seconds_grid = 0, seconds_extract = 0, seconds_decimate = 0;
 };
 
-Extraction extract(const TriangleBvh& bvh, const Box3& box, double offset, int resolution,
+Extraction extract(const geometry::DistanceBvh& bvh, const Box3& box, double offset, int resolution,
                    bool cubes, bool prune, double collapse_to, Progress& progress) {
   Extraction ex;
   Vec3 ext = box.extent();
@@ -123,7 +119,7 @@ Extraction extract(const TriangleBvh& bvh, const Box3& box, double offset, int r
 }
 
 // Everything measured on a finished proxy mesh.
-void measure(const TriMesh& mesh, const TriangleBvh& soup_bvh, const std::vector<Vec3>& soup_points,
+void measure(const TriMesh& mesh, const geometry::DistanceBvh& soup_bvh, const std::vector<Vec3>& soup_points,
              double offset, bool check_self_intersections, Progress& progress, ProxyResult& r) {
   Topology topo = check_topology(mesh);
   r.closed = topo.closed;
@@ -145,7 +141,7 @@ void measure(const TriMesh& mesh, const TriangleBvh& soup_bvh, const std::vector
   r.proxy.face_component = comps.face_component;
 
   progress.update("proxy: checks", 0.2);
-  TriangleBvh proxy_bvh(mesh);
+  geometry::DistanceBvh proxy_bvh(mesh);
   size_t outside = 0;
 #pragma omp parallel for schedule(dynamic, 1024) reduction(+ : outside)
   for (long i = 0; i < long(soup_points.size()); ++i) outside += !proxy_bvh.contains(soup_points[i]);
@@ -225,9 +221,6 @@ nlohmann::json ProxyResult::diagnostics() const {
       {"seconds_decimate", seconds_decimate},
       {"seconds_smooth", seconds_smooth},
       {"seconds_checks", seconds_checks},
-      {"gap_narrowed_triangles", gap_narrowed_triangles},
-      {"gap_smallest_offset", gap_smallest_offset},
-      {"seconds_gaps", seconds_gaps},
       {"warnings", warnings},
   };
 }
@@ -244,7 +237,7 @@ ProxyResult build_proxy(const Soup& soup, const ProxyOptions& options, Progress&
   if (!(diagonal > 0)) throw Error(ErrorCode::invalid_input, "proxy: the soup spans no volume (a single point)");
   Vec3 ext = box.extent();
   const double longest = std::max({ext.x, ext.y, ext.z});
-  TriangleBvh soup_bvh(soup);
+  geometry::DistanceBvh soup_bvh(soup);
   const std::vector<Vec3> soup_points = used_positions(soup);
 
   std::vector<double> offsets;  // absolute offsets to try, tightest first
@@ -269,23 +262,6 @@ ProxyResult build_proxy(const Soup& soup, const ProxyOptions& options, Progress&
     r.offset = offset;
     r.offset_fraction = offset / diagonal;
     r.resolution = sampling_resolution(options, longest, offset);
-    if (options.keep_gaps) {
-      // A slit between two shells must be a few cells wide to be sampled.
-      r.resolution = std::min(options.max_resolution,
-                              int(std::ceil(options.gap_resolution_factor * r.resolution)));
-      const double cell = longest / r.resolution;
-      auto t0 = Clock::now();
-      GapOffsetOptions go;
-      go.offset = offset;
-      go.min_offset = std::min(offset, options.gap_min_offset_cells * cell);
-      go.margin = options.gap_margin_cells * cell;
-      go.weld_tolerance = options.gap_weld_fraction * diagonal;
-      GapOffsets gaps = gap_offsets(soup_bvh, go);
-      r.gap_narrowed_triangles = gaps.narrowed;
-      r.gap_smallest_offset = gaps.smallest_offset;
-      soup_bvh.set_shifts(std::move(gaps.shift));
-      r.seconds_gaps = since(t0);
-    }
     if (options.offset_mode == OffsetMode::automatic) r.ladder_tried.push_back(r.offset_fraction);
     if (best) r.ladder_tried.insert(r.ladder_tried.begin(), best->ladder_tried.begin(), best->ladder_tried.end());
     if (r.resolution < nyquist_resolution(longest, offset))

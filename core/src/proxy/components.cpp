@@ -3,20 +3,11 @@
 
 #include <algorithm>
 #include <memory>
-#include <numeric>
-
-#include "soupuv/proxy/triangle_bvh.h"
+#include "soupuv/geometry/distance_bvh.h"
+#include "soupuv/union_find.h"
 
 namespace soupuv::proxy {
 namespace {
-
-int find_root(std::vector<int>& parent, int v) {
-  while (parent[v] != v) {
-    parent[v] = parent[parent[v]];
-    v = parent[v];
-  }
-  return v;
-}
 
 bool box_inside(const Box3& inner, const Box3& outer) {
   for (int k = 0; k < 3; ++k)
@@ -38,19 +29,13 @@ double signed_volume(const TriMesh& mesh, const std::vector<int>& face_component
 
 Components find_components(const TriMesh& mesh) {
   Components out;
-  std::vector<int> parent(mesh.vertices.size());
-  std::iota(parent.begin(), parent.end(), 0);
-  for (const auto& t : mesh.faces) {
-    int a = find_root(parent, t[0]);
-    for (int k = 1; k < 3; ++k) {
-      int b = find_root(parent, t[k]);
-      if (a != b) parent[b] = a;
-    }
-  }
+  UnionFind vertices(mesh.vertices.size());
+  for (const auto& t : mesh.faces)
+    for (int k = 1; k < 3; ++k) vertices.unite(t[0], t[k]);
   std::vector<int> id_of_root(mesh.vertices.size(), -1);
   out.face_component.resize(mesh.faces.size());
   for (size_t f = 0; f < mesh.faces.size(); ++f) {
-    int root = find_root(parent, mesh.faces[f][0]);
+    const uint32_t root = vertices.find(mesh.faces[f][0]);
     if (id_of_root[root] < 0) id_of_root[root] = out.count++;
     out.face_component[f] = id_of_root[root];
   }
@@ -71,11 +56,11 @@ Components find_components(const TriMesh& mesh) {
   // A component is inner when one of its vertices is inside another component
   // whose box contains its box (cheap rejection first, paper §5).
   out.inner.assign(out.count, 0);
-  std::vector<std::unique_ptr<TriangleBvh>> bvh(out.count);
+  std::vector<std::unique_ptr<geometry::DistanceBvh>> bvh(out.count);
   for (int a = 0; a < out.count; ++a) {
     for (int b = 0; b < out.count && !out.inner[a]; ++b) {
       if (a == b || !box_inside(boxes[a], boxes[b])) continue;
-      if (!bvh[b]) bvh[b] = std::make_unique<TriangleBvh>(tris[b]);
+      if (!bvh[b]) bvh[b] = std::make_unique<geometry::DistanceBvh>(tris[b]);
       out.inner[a] = bvh[b]->contains(mesh.vertices[sample_vertex[a]]);
     }
   }

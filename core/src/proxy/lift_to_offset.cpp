@@ -8,7 +8,7 @@
 
 namespace soupuv::proxy {
 
-double lift_to_offset(TriMesh& mesh, const TriangleBvh& soup_bvh, double offset, double max_step,
+double lift_to_offset(TriMesh& mesh, const geometry::DistanceBvh& soup_bvh, double offset, double max_step,
                       int iterations) {
   const long nv = long(mesh.vertices.size());
   std::vector<Vec3> normal(nv);

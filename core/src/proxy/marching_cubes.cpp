@@ -6,10 +6,8 @@
 #include <array>
 #include <utility>
 
-#include <omp.h>
 
-#include "edge_vertex_weld.h"
-#include "first_error.h"
+#include "mesh_band_cells.h"
 #include "soupuv/errors.h"
 
 namespace soupuv::proxy {
@@ -152,27 +150,10 @@ struct CellMesher {
 }  // namespace
 
 TriMesh marching_cubes(const NarrowBand& band, Progress& progress) {
-  int threads = omp_get_max_threads();
-  std::vector<std::vector<EdgeVertex>> vertices(threads);
-  std::vector<std::vector<std::array<uint64_t, 3>>> triangles(threads);
-  long n_cells = long(band.cells.size());
-  FirstError errors;
-#pragma omp parallel
-  {
-    int me = omp_get_thread_num();
-    CellMesher mesher{band, vertices[me], triangles[me]};
-    // Static contiguous chunks: thread t gets the t-th run of cells, so the
-    // per-thread lists concatenated in thread order are in cell order — the
-    // same mesh for every thread count (the edge collapse depends on face order).
-#pragma omp for schedule(static)
-    for (long n = 0; n < n_cells; ++n)
-      errors.run([&] {
-        if (me == 0 && n % 4096 == 0) progress.update("proxy: marching cubes", double(n) / n_cells);
-        mesher.run(size_t(n));
-      });
-  }
-  errors.rethrow();
-  return weld_edge_vertices(vertices, triangles);
+  return mesh_band_cells(band, "proxy: marching cubes", progress,
+                         [&band](std::vector<EdgeVertex>& vertices, std::vector<std::array<uint64_t, 3>>& triangles) {
+                           return [mesher = CellMesher{band, vertices, triangles}](size_t n) mutable { mesher.run(n); };
+                         });
 }
 
 }  // namespace soupuv::proxy

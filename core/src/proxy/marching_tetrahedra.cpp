@@ -6,10 +6,8 @@
 #include <array>
 #include <utility>
 
-#include <omp.h>
 
-#include "edge_vertex_weld.h"
-#include "first_error.h"
+#include "mesh_band_cells.h"
 
 namespace soupuv::proxy {
 namespace {
@@ -117,32 +115,19 @@ struct Emitter {
 }  // namespace
 
 TriMesh marching_tetrahedra(const NarrowBand& band, Progress& progress) {
-  int threads = omp_get_max_threads();
-  std::vector<std::vector<EdgeVertex>> vertices(threads);
-  std::vector<std::vector<std::array<uint64_t, 3>>> triangles(threads);
-  long n_cells = long(band.cells.size());
-  FirstError errors;
-#pragma omp parallel
-  {
-    int me = omp_get_thread_num();
-    // Static contiguous chunks: thread t gets the t-th run of cells, so the
-    // per-thread lists concatenated in thread order are in cell order — the
-    // same mesh for every thread count (the edge collapse depends on face order).
-#pragma omp for schedule(static)
-    for (long n = 0; n < n_cells; ++n)
-      errors.run([&] {
-        if (me == 0 && n % 4096 == 0) progress.update("proxy: marching tetrahedra", double(n) / n_cells);
-        auto cell = grid_coords(band.cells[n]);
-        std::array<double, 8> f = band.cell_values(size_t(n));
-        int inside = 0;
-        for (int v = 0; v < 8; ++v) inside += f[v] < 0;
-        if (inside == 0 || inside == 8) return;
-        Emitter emit{band, cell, f, vertices[me], triangles[me]};
-        for (const KuhnTet& t : kTets) emit.tet(t);
+  return mesh_band_cells(
+      band, "proxy: marching tetrahedra", progress,
+      [&band](std::vector<EdgeVertex>& vertices, std::vector<std::array<uint64_t, 3>>& triangles) {
+        return [&band, &vertices, &triangles](size_t n) {
+          auto cell = grid_coords(band.cells[n]);
+          std::array<double, 8> f = band.cell_values(n);
+          int inside = 0;
+          for (int v = 0; v < 8; ++v) inside += f[v] < 0;
+          if (inside == 0 || inside == 8) return;
+          Emitter emit{band, cell, f, vertices, triangles};
+          for (const KuhnTet& t : kTets) emit.tet(t);
+        };
       });
-  }
-  errors.rethrow();
-  return weld_edge_vertices(vertices, triangles);
 }
 
 }  // namespace soupuv::proxy

@@ -108,7 +108,7 @@ size_t prune_cavities(const std::array<int, 3>& dims, int level, const std::vect
 
 }  // namespace
 
-NarrowBand build_narrow_band(const TriangleBvh& bvh, const Box3& box, double offset,
+NarrowBand build_narrow_band(const geometry::DistanceBvh& bvh, const Box3& box, double offset,
                              double cell, Progress& progress, bool outer_only) {
   NarrowBand band;
   band.offset = offset;
@@ -174,7 +174,7 @@ NarrowBand build_narrow_band(const TriangleBvh& bvh, const Box3& box, double off
     const long n_runs = long(runs.size()) - 1;
 #pragma omp parallel
     {
-      CandidateList shared, list;
+      geometry::CandidateList shared, list;
 #pragma omp for schedule(dynamic, 4)
       for (long r = 0; r < n_runs; ++r) {
         double radius = 0;
@@ -230,7 +230,7 @@ NarrowBand build_narrow_band(const TriangleBvh& bvh, const Box3& box, double off
     if (!parents.empty() && 2 * size <= 2 * offset) {
       for_each_parent_list(
           hi, [](size_t) { return true; },
-          [&](size_t p, const CandidateList& list) {
+          [&](size_t p, const geometry::CandidateList& list) {
             for (size_t n = parents[p].begin; n < parents[p].end; ++n)
               decide(n, bvh.distance_among(center_of(current[n], size), list, lo, hi, &hint[n]));
           });
@@ -360,7 +360,7 @@ NarrowBand build_narrow_band(const TriangleBvh& bvh, const Box3& box, double off
     for (uint32_t slot = slot_start[g]; slot < slot_start[g + 1]; ++slot) owner[g] |= owns[slot];
   for_each_parent_list(
       corner_hi, [&](size_t g) { return owner[g] != 0; },
-      [&](size_t g, const CandidateList& list) {
+      [&](size_t g, const geometry::CandidateList& list) {
         auto o = grid_coords(parent_origin[g]);
         uint32_t warm = parent_hint[g];
         for (int bit = 0; bit < 27; ++bit) {

@@ -7,8 +7,8 @@
 
 namespace soupuv::quality {
 
-ContinuityBound continuity_bound(const Soup& soup, const Weld& weld,
-                                 const std::vector<AdjacentPair>& adjacency, double cone_defect) {
+ContinuityBound continuity_bound(const Soup& soup, const geometry::Weld& weld,
+                                 const std::vector<geometry::AdjacentPair>& adjacency, double cone_defect) {
   ContinuityBound b;
   const size_t n = soup.triangles.size();
   b.pairs = adjacency.size();
@@ -28,7 +28,7 @@ ContinuityBound continuity_bound(const Soup& soup, const Weld& weld,
   // many triangles use each (welded) edge; a pair covers two uses.
   UnionFind parts(n);
   std::vector<uint32_t> paired(3 * n, 0);  // per corner edge (k -> k+1): in some pair
-  for (const AdjacentPair& p : adjacency) {
+  for (const geometry::AdjacentPair& p : adjacency) {
     parts.unite(p.a, p.b);
     auto mark = [&](uint32_t t, std::array<uint8_t, 2> c) {
       const int k0 = c[0], k1 = c[1];

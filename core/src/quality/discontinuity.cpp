@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include "soupuv/geometry/triangle_stretch.h"
+
 namespace soupuv::quality {
 
 nlohmann::json DiscontinuityBreakdown::to_json() const {
@@ -12,7 +14,6 @@ nlohmann::json DiscontinuityBreakdown::to_json() const {
           {"split_charts", split},
           {"chart_correction", corrected},
           {"diverged", diverged},
-          {"diverged_by_repair", diverged_by_repair},
           {"diverged_apart_lines", diverged_apart_lines},
           {"diverged_one_line", diverged_one_line},
           {"flipped", flipped},
@@ -35,16 +36,15 @@ nlohmann::json DiscontinuityBreakdown::to_json() const {
 }
 
 DiscontinuityBreakdown discontinuity_breakdown(const Soup& soup, const CornerUvs& uvs,
-                                               const std::vector<AdjacentPair>& adjacency,
+                                               const std::vector<geometry::AdjacentPair>& adjacency,
                                                const CornerLanding& landing,
                                                int texture_size, double uv_per_length) {
   DiscontinuityBreakdown b;
   b.pairs = adjacency.size();
   const double texel = 1.0 / texture_size;
   const bool know_lines = landing.line.size() == 3 * uvs.size();
-  const bool know_before = landing.before_repair.size() == uvs.size();
-  for (const AdjacentPair& p : adjacency) {
-    bool apart = false, apart_before = false, missed = false, split = false, corrected = false,
+  for (const geometry::AdjacentPair& p : adjacency) {
+    bool apart = false, missed = false, split = false, corrected = false,
          two_lines = false;
     for (int i = 0; i < 2; ++i) {
       const size_t ca = 3 * size_t(p.a) + p.a_corner[i], cb = 3 * size_t(p.b) + p.b_corner[i];
@@ -54,7 +54,6 @@ DiscontinuityBreakdown discontinuity_breakdown(const Soup& soup, const CornerUvs
         return !(norm(u[p.a][p.a_corner[i]] - u[p.b][p.b_corner[i]]) <= texel + 2 * d_3d * uv_per_length);
       };
       apart |= cut(uvs);
-      if (know_before) apart_before |= cut(landing.before_repair);
       missed |= landing.missed[ca] || landing.missed[cb];
       split |= landing.first_chart[ca] != landing.first_chart[cb];
       corrected |= landing.final_chart[ca] != landing.first_chart[ca] ||
@@ -68,8 +67,7 @@ DiscontinuityBreakdown discontinuity_breakdown(const Soup& soup, const CornerUvs
     else if (corrected) ++b.corrected;
     else {
       ++b.diverged;
-      if (know_before && !apart_before) ++b.diverged_by_repair;
-      else if (two_lines) ++b.diverged_apart_lines;
+      if (two_lines) ++b.diverged_apart_lines;
       else if (know_lines) ++b.diverged_one_line;
     }
   }
@@ -106,11 +104,11 @@ DiscontinuityBreakdown discontinuity_breakdown(const Soup& soup, const CornerUvs
   double sum = 0;
   for (size_t t = 0; t < uvs.size(); ++t) {
     const double a = triangle_area(soup, t);
-    double big, small;
-    if (!(a > 0) || !stretch_singular_values(soup.corner(t, 0), soup.corner(t, 1),
-                                             soup.corner(t, 2), uvs[t], big, small))
+    geometry::SanderStretch st;
+    if (!(a > 0) || !geometry::sander_stretch(soup.corner(t, 0), soup.corner(t, 1),
+                                             soup.corner(t, 2), uvs[t], st))
       continue;
-    terms.push_back({a * 0.5 * (big * big + small * small), uint32_t(t)});
+    terms.push_back({a * 0.5 * (st.big * st.big + st.small * st.small), uint32_t(t)});
     sum += terms.back().first;
   }
   const size_t worst = terms.empty() ? 0 : std::max<size_t>(1, terms.size() / 100);

@@ -3,12 +3,14 @@
 #include <algorithm>
 #include <cmath>
 
+#include "soupuv/geometry/triangle_stretch.h"
+
 namespace soupuv::quality {
 
 namespace {
 
-const std::vector<std::string> kClasses = {"sliver_3d", "missed", "cut", "split",
-                                           "corrected", "chart_border", "converged"};
+const std::vector<std::string> kClasses = {"sliver_3d", "missed", "split", "corrected",
+                                           "chart_border", "converged"};
 
 bool flag(const std::vector<uint8_t>& v, size_t t) { return t < v.size() && v[t] != 0; }
 
@@ -43,11 +45,11 @@ StretchTail stretch_tail(const Soup& soup, const CornerUvs& uvs, const CornerLan
   double sum = 0;
   for (size_t t = 0; t < n; ++t) {
     const double a = triangle_area(soup, t);
-    double big, small;
-    if (!(a > 0) || !stretch_singular_values(soup.corner(t, 0), soup.corner(t, 1),
-                                             soup.corner(t, 2), uvs[t], big, small))
+    geometry::SanderStretch st;
+    if (!(a > 0) || !geometry::sander_stretch(soup.corner(t, 0), soup.corner(t, 1),
+                                             soup.corner(t, 2), uvs[t], st))
       continue;
-    const double l2_sq = 0.5 * (big * big + small * small);
+    const double l2_sq = 0.5 * (st.big * st.big + st.small * st.small);
     terms.push_back({a * l2_sq, uint32_t(t), std::sqrt(l2_sq) * scale});
     sum += a * l2_sq;
   }
@@ -65,7 +67,6 @@ StretchTail stretch_tail(const Soup& soup, const CornerUvs& uvs, const CornerLan
     tri.area_ratio = sign * auv / (a3 * scale * scale);
     tri.flipped = tri.area_ratio < 0;
     tri.aspect_3d = triangle_aspect(soup.corner(t, 0), soup.corner(t, 1), soup.corner(t, 2));
-    tri.repaired = flag(flags.repaired, t);
     bool missed = false, split = false, corrected = false;
     for (int k = 0; k < 3; ++k) {
       const size_t c = 3 * t + k;
@@ -75,17 +76,15 @@ StretchTail stretch_tail(const Soup& soup, const CornerUvs& uvs, const CornerLan
         if (c < landing.final_chart.size()) corrected |= landing.final_chart[c] != landing.first_chart[c];
       }
     }
-    size_t cls = 6;
+    size_t cls = 5;
     if (tri.aspect_3d < options.sliver_aspect) cls = 0;
     else if (missed) cls = 1;
-    else if (flag(flags.cut, t)) cls = 2;
-    else if (split) cls = 3;
-    else if (corrected) cls = 4;
-    else if (flag(flags.chart_border, t)) cls = 5;
+    else if (split) cls = 2;
+    else if (corrected) cls = 3;
+    else if (flag(flags.chart_border, t)) cls = 4;
     tri.cls = kClasses[cls];
     ++tail.class_count[cls];
     tail.class_share[cls] += tri.share;
-    tail.repaired += tri.repaired;
     ++tail.listed;
     tail.listed_share += tri.share;
     if (tail.worst.size() < options.max_detailed) tail.worst.push_back(tri);
@@ -101,8 +100,8 @@ nlohmann::json StretchTail::to_json() const {
   for (const TailTriangle& t : worst)
     list.push_back({{"triangle", t.triangle}, {"class", t.cls}, {"share", t.share},
                     {"stretch", t.stretch}, {"area_ratio", t.area_ratio},
-                    {"aspect_3d", t.aspect_3d}, {"repaired", t.repaired}, {"flipped", t.flipped}});
-  return {{"listed", listed}, {"listed_share", listed_share}, {"repaired", repaired},
+                    {"aspect_3d", t.aspect_3d}, {"flipped", t.flipped}});
+  return {{"listed", listed}, {"listed_share", listed_share},
           {"by_class", by_class}, {"worst", list}};
 }
 

@@ -7,6 +7,7 @@
 
 #include "soupuv/errors.h"
 #include "soupuv/union_find.h"
+#include "soupuv/geometry/triangle_stretch.h"
 
 namespace soupuv::quality {
 
@@ -22,23 +23,8 @@ bool usable(Vec2 p) {
 
 }  // namespace
 
-bool stretch_singular_values(Vec3 p0, Vec3 p1, Vec3 p2, const std::array<Vec2, 3>& uv,
-                             double& big, double& small) {
-  double area2 = cross(uv[1] - uv[0], uv[2] - uv[0]);  // 2 * signed UV area
-  if (!(std::abs(area2) > 0)) return false;
-  double s1 = uv[0].x, s2 = uv[1].x, s3 = uv[2].x;
-  double t1 = uv[0].y, t2 = uv[1].y, t3 = uv[2].y;
-  Vec3 ss = (p0 * (t2 - t3) + p1 * (t3 - t1) + p2 * (t1 - t2)) / area2;
-  Vec3 tt = (p0 * (s3 - s2) + p1 * (s1 - s3) + p2 * (s2 - s1)) / area2;
-  double a = dot(ss, ss), b = dot(ss, tt), c = dot(tt, tt);
-  double root = std::sqrt(std::max(0.0, (a - c) * (a - c) + 4 * b * b));
-  big = std::sqrt(std::max(0.0, 0.5 * (a + c + root)));
-  small = std::sqrt(std::max(0.0, 0.5 * (a + c - root)));
-  return std::isfinite(big) && std::isfinite(small);
-}
-
 UvMetrics uv_metrics(const Soup& soup, const CornerUvs& uvs,
-                     const std::vector<AdjacentPair>& adjacency, const UvMetricsOptions& options) {
+                     const std::vector<geometry::AdjacentPair>& adjacency, const UvMetricsOptions& options) {
   if (uvs.size() != soup.triangles.size())
     throw Error(ErrorCode::internal, "uv_metrics: one UV triple per triangle expected");
   UvMetrics m;
@@ -86,14 +72,13 @@ UvMetrics uv_metrics(const Soup& soup, const CornerUvs& uvs,
   terms.reserve(n);
   for (size_t t = 0; t < n; ++t) {
     if (!(a3[t] > 0)) continue;
-    double big, small;
-    if (!stretch_singular_values(soup.corner(t, 0), soup.corner(t, 1), soup.corner(t, 2), uvs[t],
-                                 big, small))
+    geometry::SanderStretch st;
+    if (!geometry::sander_stretch(soup.corner(t, 0), soup.corner(t, 1), soup.corner(t, 2), uvs[t], st))
       continue;  // collapsed: already counted as flipped
-    const double l2_sq = 0.5 * (big * big + small * small);
+    const double l2_sq = 0.5 * (st.big * st.big + st.small * st.small);
     sum_l2 += a3[t] * l2_sq;
     weight += a3[t];
-    linf = std::max(linf, big * scale);
+    linf = std::max(linf, st.big * scale);
     terms.push_back({std::sqrt(l2_sq) * scale, a3[t], a3[t] * l2_sq});
   }
   m.stretch_l2 = weight > 0 ? std::sqrt(sum_l2 / weight) * scale : 0;
@@ -121,7 +106,7 @@ UvMetrics uv_metrics(const Soup& soup, const CornerUvs& uvs,
   const double texel = 1.0 / options.texture_size;
   UnionFind uf(n);
   size_t ok = 0, ok_plain = 0;
-  for (const AdjacentPair& p : adjacency) {
+  for (const geometry::AdjacentPair& p : adjacency) {
     bool cont = true, plain = true;
     for (int i = 0; i < 2; ++i) {
       Vec2 ua = uvs[p.a][p.a_corner[i]], ub = uvs[p.b][p.b_corner[i]];
@@ -159,26 +144,25 @@ double stretch_l2_subset(const Soup& soup, const CornerUvs& uvs,
   double sum = 0, weight = 0;
   for (size_t t = 0; t < uvs.size(); ++t) {
     const double a = triangle_area(soup, t);
-    double big, small;
+    geometry::SanderStretch st;
     if (!include[t] || !(a > 0) ||
-        !stretch_singular_values(soup.corner(t, 0), soup.corner(t, 1), soup.corner(t, 2), uvs[t],
-                                 big, small))
+        !geometry::sander_stretch(soup.corner(t, 0), soup.corner(t, 1), soup.corner(t, 2), uvs[t], st))
       continue;
-    sum += a * 0.5 * (big * big + small * small);
+    sum += a * 0.5 * (st.big * st.big + st.small * st.small);
     weight += a;
   }
   return weight > 0 ? std::sqrt(sum / weight) * scale : 0;
 }
 
-std::vector<AdjacentPair> metric_adjacency(const Soup& soup, const Soup* original,
+std::vector<geometry::AdjacentPair> metric_adjacency(const Soup& soup, const Soup* original,
                                            double weld_tolerance) {
   if (original) {
     if (original->triangles.size() != soup.triangles.size())
       throw Error(ErrorCode::invalid_input,
                   "the original mesh for continuity has a different triangle count");
-    return edge_adjacency(weld_corners(*original, 0.0), original->triangles.size());
+    return geometry::edge_adjacency(geometry::weld_corners(*original, 0.0), original->triangles.size());
   }
-  return edge_adjacency(weld_corners(soup, weld_tolerance), soup.triangles.size());
+  return geometry::edge_adjacency(geometry::weld_corners(soup, weld_tolerance), soup.triangles.size());
 }
 
 nlohmann::json to_json(const UvMetrics& m) {

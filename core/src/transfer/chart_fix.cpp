@@ -44,10 +44,10 @@ std::array<double, 3> plane_barycentric(const TriMesh& mesh, int f, Vec3 p) {
 }  // namespace
 
 ChartFixResult fix_chart_boundaries(const Soup& soup, const proxy::ProxyMesh& proxy,
-                                    const atlas::Atlas& atlas, std::vector<SurfacePoint>& landing,
+                                    const atlas::Atlas& atlas, std::vector<geometry::SurfacePoint>& landing,
                                     std::vector<std::array<Vec2, 3>>& corner_uvs,
                                     Progress& progress,
-                                    const std::vector<quality::AdjacentPair>* neighbours) {
+                                    const std::vector<geometry::AdjacentPair>* neighbours) {
   ChartFixResult r;
   const TriMesh& mesh = proxy.mesh;
   auto chart_of = [&](size_t corner) { return atlas.face_chart[landing[corner].face]; };
@@ -63,10 +63,10 @@ ChartFixResult fix_chart_boundaries(const Soup& soup, const proxy::ProxyMesh& pr
   // One BVH per chart that some mixed triangle names, built on demand.
   std::vector<std::vector<int>> chart_faces(atlas.chart_count);
   for (size_t f = 0; f < mesh.faces.size(); ++f) chart_faces[atlas.face_chart[f]].push_back(int(f));
-  std::map<int, std::unique_ptr<TriangleBvh>> chart_bvh;
-  auto bvh_of = [&](int chart) -> const TriangleBvh& {
+  std::map<int, std::unique_ptr<geometry::SurfaceHitBvh>> chart_bvh;
+  auto bvh_of = [&](int chart) -> const geometry::SurfaceHitBvh& {
     auto& slot = chart_bvh[chart];
-    if (!slot) slot = std::make_unique<TriangleBvh>(mesh, chart_faces[chart]);
+    if (!slot) slot = std::make_unique<geometry::SurfaceHitBvh>(mesh, chart_faces[chart]);
     return *slot;
   };
 
@@ -86,7 +86,7 @@ ChartFixResult fix_chart_boundaries(const Soup& soup, const proxy::ProxyMesh& pr
   // corners on other charts moved onto it, and the cost of that choice.
   struct Candidate {
     int chart = -1;
-    std::array<SurfacePoint, 3> land;
+    std::array<geometry::SurfacePoint, 3> land;
     std::array<Vec2, 3> uv;
     double cost = 0;
   };
@@ -120,7 +120,7 @@ ChartFixResult fix_chart_boundaries(const Soup& soup, const proxy::ProxyMesh& pr
                                 norm(mesh.vertices[f[2]] - mesh.vertices[f[1]]),
                                 norm(mesh.vertices[f[0]] - mesh.vertices[f[2]])});
         if (norm(p - cand.land[j].point) <= 4 * size) {
-          SurfacePoint extended = cand.land[j];
+          geometry::SurfacePoint extended = cand.land[j];
           extended.bary = plane_barycentric(mesh, cand.land[j].face, p);
           cand.uv[j] = atlas_uv(atlas, extended);
           // A chart packed against the atlas border must not extend past it.

@@ -1,6 +1,6 @@
 // SLIM (Rabinovich, Poranne, Panozzo, Sorkine-Hornung 2017, "Scalable
 // Locally Injective Mappings") on one UV mesh, for the symmetric Dirichlet
-// energy (private to the transfer module; island_relax.cpp uses it).
+// energy (the UV solve's flattenings use it: uvsolve/island_solve, piece_flatten).
 //
 // Input : the mesh's triangles (vertex ids), each one's rest shape
 //         (sym_dirichlet.h: flattened at the wanted scale and orientation;

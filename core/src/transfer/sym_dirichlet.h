@@ -1,5 +1,5 @@
 // The symmetric Dirichlet energy of one triangle's map into UV, and its
-// gradient with respect to one corner's UV (private to uv_repair.cpp).
+// gradient with respect to one corner's UV (SLIM and the UV solve's steps use it).
 //
 // Input : the 3D triangle, the texel scale s (UV units per 3D length) and the
 //         wanted UV orientation (+1 or -1).

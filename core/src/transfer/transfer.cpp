@@ -10,7 +10,7 @@
 
 namespace soupuv::transfer {
 
-Vec2 atlas_uv(const atlas::Atlas& atlas, const SurfacePoint& p) {
+Vec2 atlas_uv(const atlas::Atlas& atlas, const geometry::SurfacePoint& p) {
   const auto& uv = atlas.face_uvs[p.face];
   return p.bary[0] * uv[0] + p.bary[1] * uv[1] + p.bary[2] * uv[2];
 }
@@ -21,10 +21,10 @@ enum class Landing { hit, ray, closest };
 
 // First crossing of line i's polyline; else the ray along its last direction;
 // else the proxy point closest to `fallback`.
-SurfacePoint land_line(const TriangleBvh& bvh, const field::FieldLines& lines, size_t i,
+geometry::SurfacePoint land_line(const geometry::SurfaceHitBvh& bvh, const field::FieldLines& lines, size_t i,
                        Vec3 fallback, double ray_length, Landing& how) {
   const uint32_t b = lines.offsets[i], e = lines.offsets[i + 1];
-  SurfacePoint hit;
+  geometry::SurfacePoint hit;
   for (uint32_t j = b; j + 1 < e && !hit.found(); ++j)
     hit = bvh.first_hit(lines.points[j], lines.points[j + 1]);
   how = Landing::hit;
@@ -51,18 +51,6 @@ double ray_length_for(const TriMesh& mesh) {
 }
 
 }  // namespace
-
-std::vector<SurfacePoint> land_lines(const field::FieldLines& lines,
-                                     const std::vector<Vec3>& fallback_points,
-                                     const proxy::ProxyMesh& proxy) {
-  TriangleBvh bvh(proxy.mesh);
-  const double ray_length = ray_length_for(proxy.mesh);
-  std::vector<SurfacePoint> out(lines.size());
-  Landing how;
-  for (size_t i = 0; i < lines.size(); ++i)
-    out[i] = land_line(bvh, lines, i, fallback_points[i], ray_length, how);
-  return out;
-}
 
 nlohmann::json TransferResult::diagnostics() const {
   return {{"lines", lines},
@@ -109,12 +97,12 @@ TransferResult transfer_uvs(const Soup& soup, const field::FieldLines& lines,
       throw Error(ErrorCode::internal, "transfer: a field line names a corner the soup lacks");
 
   progress.update("transfer", 0);
-  TriangleBvh bvh(mesh);
+  geometry::SurfaceHitBvh bvh(mesh);
   const double ray_length = ray_length_for(mesh);
 
   TransferResult r;
   r.lines = lines.size();
-  std::vector<SurfacePoint> line_landing(lines.size());
+  std::vector<geometry::SurfacePoint> line_landing(lines.size());
   std::vector<uint8_t> line_missed(lines.size(), 0);
   std::atomic<size_t> hits{0}, ray{0}, closest{0}, done{0};
 

@@ -10,7 +10,7 @@
 
 namespace soupuv::uvsolve::detail {
 
-SeamMergeFigures merge_seams(const Soup& soup, const std::vector<quality::AdjacentPair>& pairs,
+SeamMergeFigures merge_seams(const Soup& soup, const std::vector<geometry::AdjacentPair>& pairs,
                              double cell, double uv_per_length, double collapse_ratio, size_t max_attempts,
                              size_t max_relax_triangles, UvLayout& L) {
   SeamMergeFigures f;

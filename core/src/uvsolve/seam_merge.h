@@ -1,6 +1,6 @@
 // Joins islands across the seams between them (private to the UV solve).
 //
-// Input : the soup, its weld's adjacent pairs (quality::edge_adjacency), a
+// Input : the soup, its weld's adjacent pairs (geometry::edge_adjacency), a
 //         layout whose islands are flattened and overlap-free, the sample
 //         spacing of overlap_split.h, the collapse ratio (untangle.h) and an
 //         attempt budget.
@@ -20,7 +20,7 @@
 #include <cstddef>
 #include <vector>
 
-#include "soupuv/quality/weld.h"
+#include "soupuv/geometry/weld.h"
 #include "uvsolve/uv_layout.h"
 
 namespace soupuv::uvsolve::detail {
@@ -31,7 +31,7 @@ struct SeamMergeFigures {
   size_t refused_fold = 0, refused_overlap = 0;
 };
 
-SeamMergeFigures merge_seams(const Soup& soup, const std::vector<quality::AdjacentPair>& pairs,
+SeamMergeFigures merge_seams(const Soup& soup, const std::vector<geometry::AdjacentPair>& pairs,
                              double cell, double uv_per_length, double collapse_ratio, size_t max_attempts,
                              size_t max_relax_triangles, UvLayout& layout);
 

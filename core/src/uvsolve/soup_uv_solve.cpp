@@ -20,7 +20,7 @@ double since(Clock::time_point t0) { return std::chrono::duration<double>(Clock:
 
 // Share of the weld's adjacent pairs whose two shared corners still share
 // layout vertices: the continuity each step leaves (cuts only lower it).
-double kept_pairs(const std::vector<quality::AdjacentPair>& pairs, const detail::UvLayout& L) {
+double kept_pairs(const std::vector<geometry::AdjacentPair>& pairs, const detail::UvLayout& L) {
   if (pairs.empty()) return 1;
   size_t kept = 0;
   for (const auto& p : pairs)
@@ -40,7 +40,7 @@ nlohmann::json reembed_json(const detail::ReembedFigures& f) {
 }
 }  // namespace
 
-SoupUvResult solve_soup_uvs(const Soup& soup, const quality::Weld& weld,
+SoupUvResult solve_soup_uvs(const Soup& soup, const geometry::Weld& weld,
                             const std::vector<std::array<Vec2, 3>>& transferred,
                             const std::vector<int>& corner_chart, double uv_per_length,
                             double texel, const SoupUvOptions& options, Progress& progress) {
@@ -50,7 +50,7 @@ SoupUvResult solve_soup_uvs(const Soup& soup, const quality::Weld& weld,
   progress.update("uv_solve", 0);
   detail::UvLayout layout =
       detail::build_uv_mesh(soup, weld, transferred, corner_chart, texel, uv_per_length);
-  const std::vector<quality::AdjacentPair> pairs = quality::edge_adjacency(weld, soup.triangles.size());
+  const std::vector<geometry::AdjacentPair> pairs = geometry::edge_adjacency(weld, soup.triangles.size());
   d["uv_mesh"] = {{"vertices", layout.uv.size()},
                   {"islands", layout.island_count},
                   {"kept_pairs", kept_pairs(pairs, layout)},

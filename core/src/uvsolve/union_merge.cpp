@@ -12,7 +12,7 @@ constexpr size_t kFlattenBudget = 8;
 }  // namespace
 
 UnionMergeFigures merge_by_reflattening(const Soup& soup, double uv_per_length,
-                                        const std::vector<quality::AdjacentPair>& pairs, double cell,
+                                        const std::vector<geometry::AdjacentPair>& pairs, double cell,
                                         double max_stretch, int solve_iterations, size_t attempts_per_island,
                                         UvLayout& L) {
   UnionMergeFigures f;

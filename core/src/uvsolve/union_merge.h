@@ -1,7 +1,7 @@
 // Joins islands by flattening their union anew (private to the UV solve).
 //
 // Input : the soup, the rest scale (UV units per 3D length), the weld's
-//         adjacent pairs (quality::edge_adjacency), the overlap sample
+//         adjacent pairs (geometry::edge_adjacency), the overlap sample
 //         spacing (overlap_split.h), the stretch budget and SLIM iterations
 //         of piece_flatten.h, attempts per island, and a layout.
 // Output: for each two islands sharing welded edges (the longest shared
@@ -20,7 +20,7 @@
 #include <cstddef>
 #include <vector>
 
-#include "soupuv/quality/weld.h"
+#include "soupuv/geometry/weld.h"
 #include "uvsolve/uv_layout.h"
 
 namespace soupuv::uvsolve::detail {
@@ -31,7 +31,7 @@ struct UnionMergeFigures {
 };
 
 UnionMergeFigures merge_by_reflattening(const Soup& soup, double uv_per_length,
-                                        const std::vector<quality::AdjacentPair>& pairs, double cell,
+                                        const std::vector<geometry::AdjacentPair>& pairs, double cell,
                                         double max_stretch, int solve_iterations, size_t attempts_per_island,
                                         UvLayout& layout);
 

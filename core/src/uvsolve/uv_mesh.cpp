@@ -67,7 +67,7 @@ void glue_through_oriented_edges(const std::vector<std::array<Vec2, 3>>& corner_
 
 }  // namespace
 
-UvLayout build_uv_mesh(const Soup& soup, const quality::Weld& weld,
+UvLayout build_uv_mesh(const Soup& soup, const geometry::Weld& weld,
                        const std::vector<std::array<Vec2, 3>>& corner_uvs,
                        const std::vector<int>& corner_chart, double texel, double uv_per_length) {
   const size_t n = soup.triangles.size();

@@ -1,6 +1,6 @@
 // The transferred map as a UV layout (private to the UV solve).
 //
-// Input : the soup, a weld of its corners (quality::Weld), the transferred
+// Input : the soup, a weld of its corners (geometry::Weld), the transferred
 //         corner UVs, each corner's landing chart, the continuity tolerance
 //         (texel: UV units; uv_per_length: UV units per 3D length).
 // Output: a UvLayout whose vertices join the corners of one welded vertex
@@ -15,12 +15,12 @@
 #include <array>
 #include <vector>
 
-#include "soupuv/quality/weld.h"
+#include "soupuv/geometry/weld.h"
 #include "uvsolve/uv_layout.h"
 
 namespace soupuv::uvsolve::detail {
 
-UvLayout build_uv_mesh(const Soup& soup, const quality::Weld& weld,
+UvLayout build_uv_mesh(const Soup& soup, const geometry::Weld& weld,
                        const std::vector<std::array<Vec2, 3>>& corner_uvs,
                        const std::vector<int>& corner_chart, double texel, double uv_per_length);
 

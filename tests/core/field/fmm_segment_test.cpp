@@ -8,6 +8,7 @@
 #include "soupuv/field/sources.h"
 #include "soupuv/field/triangle_integrals.h"
 #include "testing/shapes.h"
+#include "soupuv/geometry/segment_triangle.h"
 
 using namespace soupuv;
 using namespace soupuv::field;
@@ -30,7 +31,7 @@ TEST(FmmSegment, AgreesWithEveryTriangleTest) {
     const Vec3 b = a + len * dir;
     bool expected = false;
     for (size_t j = 0; j < src.size() && !expected; ++j)
-      expected = segment_intersects_triangle(a, b, src.a[j], src.b[j], src.c[j]);
+      expected = geometry::segment_crosses_triangle(a, b, src.a[j], src.b[j], src.c[j]);
     ASSERT_EQ(fmm.segment_crosses(a, b), expected) << "segment " << s;
     (expected ? crossing : clear)++;
   }

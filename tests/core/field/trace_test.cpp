@@ -9,6 +9,7 @@
 #include "soupuv/field/field.h"
 #include "soupuv/field/triangle_integrals.h"
 #include "testing/shapes.h"
+#include "soupuv/geometry/segment_triangle.h"
 
 using namespace soupuv;
 using namespace soupuv::field;
@@ -60,7 +61,7 @@ TEST(Trace, PipeLinesCrossNoTriangle) {
     // skip the first segment (vertex -> start point), which touches the soup by construction
     for (uint32_t k = lines.offsets[i] + 1; k + 1 < lines.offsets[i + 1]; ++k)
       for (size_t t = 0; t < soup.triangles.size(); ++t)
-        if (segment_intersects_triangle(lines.points[k], lines.points[k + 1], soup.corner(t, 0), soup.corner(t, 1),
+        if (geometry::segment_crosses_triangle(lines.points[k], lines.points[k + 1], soup.corner(t, 0), soup.corner(t, 1),
                                         soup.corner(t, 2)))
           ++crossings;
   }

@@ -13,6 +13,7 @@
 #include "soupuv/field/field.h"
 #include "soupuv/field/triangle_integrals.h"
 #include "testing/shapes.h"
+#include "soupuv/geometry/closest_point.h"
 
 using namespace soupuv;
 using namespace soupuv::field;
@@ -74,7 +75,7 @@ TEST(TraceTrapped, CrawlingLinesEndTrappedAndEscapingLinesStillEscape) {
   auto distance = [&](Vec3 p) {
     double best = std::numeric_limits<double>::infinity();
     for (size_t t = 0; t < soup.triangles.size(); ++t)
-      best = std::min(best, point_triangle_distance(soup.corner(t, 0), soup.corner(t, 1), soup.corner(t, 2), p));
+      best = std::min(best, geometry::point_triangle_distance(p, soup.corner(t, 0), soup.corner(t, 1), soup.corner(t, 2)));
     return best;
   };
   size_t lost = 0;

@@ -7,7 +7,7 @@
 #include "pipeline_support.h"
 #include "pipeline/weld_cache.h"
 #include "soupuv/cache/store.h"
-#include "soupuv/quality/weld.h"
+#include "soupuv/geometry/weld.h"
 
 using namespace soupuv;
 using namespace soupuv::testing;
@@ -70,14 +70,14 @@ TEST(CacheRerun, NewOffsetReusesTheSoupWelds) {
 
   const std::string hash = geometry_hash(soup);
   const double tol = 4e-3 * bounding_box(soup).diagonal();
-  const quality::Weld direct = quality::weld_by_edges(soup, tol, 1.05);
+  const geometry::Weld direct = geometry::weld_by_edges(soup, tol, 1.05);
   const std::string recipe = pipeline::weld_recipe("edges", {tol, 1.05});
   bool hit = true;
   cache::Store fresh;
-  auto compute = [&] { return quality::weld_by_edges(soup, tol, 1.05); };
-  const quality::Weld missed = pipeline::cached_weld(&fresh, hash, recipe, compute, hit);
+  auto compute = [&] { return geometry::weld_by_edges(soup, tol, 1.05); };
+  const geometry::Weld missed = pipeline::cached_weld(&fresh, hash, recipe, compute, hit);
   EXPECT_FALSE(hit);
-  const quality::Weld read = pipeline::cached_weld(&fresh, hash, recipe, compute, hit);
+  const geometry::Weld read = pipeline::cached_weld(&fresh, hash, recipe, compute, hit);
   EXPECT_TRUE(hit);
   EXPECT_EQ(read.vertex_count, direct.vertex_count);
   EXPECT_TRUE(read.corner_vertex == direct.corner_vertex);

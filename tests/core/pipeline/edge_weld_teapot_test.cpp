@@ -1,4 +1,4 @@
-// weld_by_edges on the shared teapot soup against its original's adjacency
+// geometry::weld_by_edges on the shared teapot soup against its original's adjacency
 // (here because this suite links the loader).
 #include <gtest/gtest.h>
 
@@ -8,7 +8,7 @@
 #include "soupuv/io/load.h"
 #include "adjacent_pair_set.h"
 #include "soupuv/quality/uv_metrics.h"
-#include "soupuv/quality/weld.h"
+#include "soupuv/geometry/weld.h"
 #include "shared_data.h"
 
 using namespace soupuv;
@@ -26,36 +26,36 @@ TEST(EdgeWeld, TeapotRimHasFewerFalseNeighboursThanCornerWelding) {
   const size_t n = soup.soup.triangles.size();
   const double diag = bounding_box(soup.soup).diagonal();
   const PairSet truth = pair_set(metric_adjacency(soup.soup, &original.soup, 0));
-  auto false_pairs = [&](const Weld& w) {
+  auto false_pairs = [&](const geometry::Weld& w) {
     size_t wrong = 0;
-    for (const auto& p : pair_set(edge_adjacency(w, n))) wrong += !truth.count(p);
+    for (const auto& p : pair_set(geometry::edge_adjacency(w, n))) wrong += !truth.count(p);
     return wrong;
   };
-  auto missed_pairs = [&](const Weld& w) {
-    const PairSet got = pair_set(edge_adjacency(w, n));
+  auto missed_pairs = [&](const geometry::Weld& w) {
+    const PairSet got = pair_set(geometry::edge_adjacency(w, n));
     size_t missed = 0;
     for (const auto& p : truth) missed += !got.count(p);
     return missed;
   };
-  const Weld corners = weld_corners(soup.soup, 2e-3 * diag, 1.0);
-  const Weld edges = weld_by_edges(soup.soup, 4e-3 * diag);
+  const geometry::Weld corners = geometry::weld_corners(soup.soup, 2e-3 * diag, 1.0);
+  const geometry::Weld edges = geometry::weld_by_edges(soup.soup, 4e-3 * diag);
   EXPECT_LT(false_pairs(edges), 200u);
   EXPECT_GT(false_pairs(corners), 2 * false_pairs(edges));
   EXPECT_LT(missed_pairs(edges), missed_pairs(corners));
   // Refusing ambiguous edges trades false pairs for missed ones.
-  const Weld strict = weld_by_edges(soup.soup, 4e-3 * diag, 2.0);
+  const geometry::Weld strict = geometry::weld_by_edges(soup.soup, 4e-3 * diag, 2.0);
   EXPECT_LT(false_pairs(strict), 30u);
   EXPECT_GT(missed_pairs(strict), missed_pairs(edges));
   // Matching only neighbours that run back (the soup's winding is
   // consistent) joins fewer wrong pairs without missing more right ones
   // (measured: false 134 -> 113, missed 203 -> 169).
-  const Weld consistent = weld_by_edges(soup.soup, 4e-3 * diag, 1.0, false);
+  const geometry::Weld consistent = geometry::weld_by_edges(soup.soup, 4e-3 * diag, 1.0, false);
   EXPECT_LT(false_pairs(consistent), false_pairs(edges));
   EXPECT_LE(missed_pairs(consistent), missed_pairs(edges));
 }
 
 // The shared lines' seed weld (field_branch.h): edges first, then distance on
-// top (extend_weld, edge fraction 0.5 as run_map asks). Counted on the
+// top (geometry::extend_weld, edge fraction 0.5 as run_map asks). Counted on the
 // original's neighbour pairs whose shared corners would start different
 // lines (measured: corner weld 448, edge weld 269, both 243 of 9,400; 225
 // with edge fraction 1), and never two corners of one triangle in a group.
@@ -66,16 +66,16 @@ TEST(EdgeWeld, TeapotSeedWeldSplitsFewerNeighboursThanEitherWeld) {
   const size_t n = soup.soup.triangles.size();
   const double diag = bounding_box(soup.soup).diagonal();
   const auto truth = metric_adjacency(soup.soup, &original.soup, 0);
-  auto split_pairs = [&](const Weld& w) {
+  auto split_pairs = [&](const geometry::Weld& w) {
     size_t split = 0;
     for (const auto& p : truth)
       split += w.corner_vertex[3 * p.a + p.a_corner[0]] != w.corner_vertex[3 * p.b + p.b_corner[0]] ||
                w.corner_vertex[3 * p.a + p.a_corner[1]] != w.corner_vertex[3 * p.b + p.b_corner[1]];
     return split;
   };
-  const Weld corners = weld_corners(soup.soup, 2e-3 * diag, 1.0);
-  const Weld edges = weld_by_edges(soup.soup, 4e-3 * diag);
-  const Weld seeds = extend_weld(soup.soup, edges, 2e-3 * diag, 0.5);
+  const geometry::Weld corners = geometry::weld_corners(soup.soup, 2e-3 * diag, 1.0);
+  const geometry::Weld edges = geometry::weld_by_edges(soup.soup, 4e-3 * diag);
+  const geometry::Weld seeds = geometry::extend_weld(soup.soup, edges, 2e-3 * diag, 0.5);
   EXPECT_LT(split_pairs(seeds), split_pairs(edges));
   EXPECT_LT(split_pairs(edges), split_pairs(corners));
   EXPECT_LT(split_pairs(seeds), 250u);

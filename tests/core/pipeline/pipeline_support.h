@@ -76,10 +76,6 @@ inline MapOptions fast_options() {
   o.proxy.offset_mode = proxy::OffsetMode::relative;
   o.proxy.offset = 0.03;
   o.cache = &suite_cache();
-  // One (proxy, atlas): these tests compare options on the run's own atlas,
-  // and the candidate search (candidates_test.cpp, SharedSamples) would
-  // answer each option with a different winner.
-  o.candidates.resize(1);
   return o;
 }
 

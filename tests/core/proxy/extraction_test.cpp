@@ -16,7 +16,7 @@
 #include "soupuv/proxy/marching_tetrahedra.h"
 #include "soupuv/proxy/mesh_checks.h"
 #include "soupuv/proxy/narrow_band.h"
-#include "soupuv/proxy/triangle_bvh.h"
+#include "soupuv/geometry/distance_bvh.h"
 #include "testing/shapes.h"
 
 namespace soupuv::proxy {
@@ -99,7 +99,7 @@ TEST(ProxyExtraction, MarchingCubesSeparatesInsideFromOutsideCorners) {
 
 TEST(ProxyExtraction, MarchingCubesMakesFewerTrianglesThanTetrahedra) {
   Soup soup = shapes::to_soup(shapes::icosphere(1.0, 3));
-  TriangleBvh bvh(soup);
+  geometry::DistanceBvh bvh(soup);
   // Unpruned, so the cavity's shell is there too: two shells to compare.
   NarrowBand band = build_narrow_band(bvh, bounding_box(soup), 0.1, 0.04, Progress::none(), false);
   TriMesh cubes = marching_cubes(band, Progress::none());
@@ -116,7 +116,7 @@ TEST(ProxyExtraction, MarchingCubesMakesFewerTrianglesThanTetrahedra) {
 TEST(ProxyExtraction, CollapseKeepsTopologyAndCoarsens) {
   // A genus-1 level set and a random-sign one (many components and handles).
   Soup torus = shapes::to_soup(shapes::torus(1.0, 0.3, 48, 16));
-  TriangleBvh bvh(torus);
+  geometry::DistanceBvh bvh(torus);
   NarrowBand smooth = build_narrow_band(bvh, bounding_box(torus), 0.1, 0.02, Progress::none());
   for (const NarrowBand* band : {&smooth}) {
     TriMesh raw = marching_cubes(*band, Progress::none());
@@ -151,7 +151,7 @@ TEST(ProxyExtraction, CollapseKeepsTopologyAndCoarsens) {
 // the same mesh for 1, 2 and 3 threads.
 TEST(ProxyExtraction, CollapseAndMarchingCubesDoNotDependOnTheThreadCount) {
   Soup torus = shapes::to_soup(shapes::torus(1.0, 0.3, 48, 16));
-  TriangleBvh bvh(torus);
+  geometry::DistanceBvh bvh(torus);
   NarrowBand band = build_narrow_band(bvh, bounding_box(torus), 0.1, 0.02, Progress::none());
   const int saved = omp_get_max_threads();
   std::vector<TriMesh> results;
@@ -175,7 +175,7 @@ TEST(ProxyExtraction, CollapseAndMarchingCubesDoNotDependOnTheThreadCount) {
 // in three rounds, and not before.
 TEST(ProxyExtraction, LiftMovesSunkenVerticesOutToTheOffset) {
   Soup soup = shapes::to_soup(shapes::icosphere(0.2, 3));
-  TriangleBvh bvh(soup);
+  geometry::DistanceBvh bvh(soup);
   TriMesh proxy = shapes::icosphere(0.6, 3);
   TriMesh once = proxy;
   double ratio_once = lift_to_offset(once, bvh, 0.7, 0.12, 1);

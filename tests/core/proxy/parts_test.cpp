@@ -12,7 +12,8 @@
 #include "soupuv/proxy/mesh_checks.h"
 #include "soupuv/proxy/narrow_band.h"
 #include "soupuv/proxy/taubin_smooth.h"
-#include "soupuv/proxy/triangle_bvh.h"
+#include "soupuv/geometry/closest_point.h"
+#include "soupuv/geometry/distance_bvh.h"
 #include "testing/shapes.h"
 
 namespace soupuv::proxy {
@@ -21,7 +22,7 @@ namespace {
 double brute_distance(const Soup& s, Vec3 p) {
   double best = INFINITY;
   for (size_t t = 0; t < s.triangles.size(); ++t)
-    best = std::min(best, point_triangle_distance(p, s.corner(t, 0), s.corner(t, 1), s.corner(t, 2)));
+    best = std::min(best, geometry::point_triangle_distance(p, s.corner(t, 0), s.corner(t, 1), s.corner(t, 2)));
   return best;
 }
 
@@ -38,20 +39,9 @@ double winding_number(const TriMesh& m, Vec3 p) {
   return sum / (4 * M_PI);
 }
 
-TEST(ProxyParts, PointTriangleDistanceKnownValues) {
-  Vec3 a{0, 0, 0}, b{1, 0, 0}, c{0, 1, 0};
-  EXPECT_NEAR(point_triangle_distance({0.2, 0.2, 0.5}, a, b, c), 0.5, 1e-15);  // face
-  EXPECT_NEAR(point_triangle_distance({-1, -1, 0}, a, b, c), std::sqrt(2.0), 1e-15);  // vertex
-  EXPECT_NEAR(point_triangle_distance({0.5, -2, 0}, a, b, c), 2.0, 1e-15);  // edge
-  EXPECT_NEAR(point_triangle_distance({1, 1, 0}, a, b, c), std::sqrt(0.5), 1e-15);  // hypotenuse
-  // Degenerate triangles degrade to a segment and to a point.
-  EXPECT_NEAR(point_triangle_distance({0.5, 1, 0}, a, b, b), 1.0, 1e-15);
-  EXPECT_NEAR(point_triangle_distance({0, 0, 3}, a, a, a), 3.0, 1e-15);
-}
-
 TEST(ProxyParts, BvhDistanceMatchesBruteForce) {
   Soup soup = shapes::to_soup(shapes::torus(1.0, 0.3, 24, 12), 0.01, 3);
-  TriangleBvh bvh(soup);
+  geometry::DistanceBvh bvh(soup);
   std::mt19937 rng(7);
   std::uniform_real_distribution<double> u(-1.6, 1.6);
   for (int i = 0; i < 400; ++i) {
@@ -81,7 +71,7 @@ TEST(ProxyParts, BvhDistanceMatchesBruteForce) {
 // restricted distance equals brute force there (band semantics included).
 TEST(ProxyParts, GatheredCandidatesGiveExactDistancesInTheirBox) {
   Soup soup = shapes::to_soup(shapes::torus(1.0, 0.3, 24, 12), 0.01, 3);
-  TriangleBvh bvh(soup);
+  geometry::DistanceBvh bvh(soup);
   std::mt19937 rng(11);
   std::uniform_real_distribution<double> u(-1.6, 1.6), s(0.01, 0.4), t(0.0, 1.0);
   size_t total = 0;
@@ -89,7 +79,7 @@ TEST(ProxyParts, GatheredCandidatesGiveExactDistancesInTheirBox) {
     Vec3 c{u(rng), u(rng), u(rng) * 0.5};
     double half = s(rng);
     Box3 box{c - Vec3{half, half, half}, c + Vec3{half, half, half}};
-    CandidateList list;
+    geometry::CandidateList list;
     bvh.gather(box, bvh.distance(c) + std::sqrt(3.0) * half, list);
     total += list.size();
     EXPECT_LT(list.size(), bvh.size());
@@ -111,12 +101,12 @@ TEST(ProxyParts, GatheredCandidatesGiveExactDistancesInTheirBox) {
   EXPECT_GT(total, 0u);
 }
 
-// A parent's list narrowed to a child box (TriangleBvh::narrow, what the
+// A parent's list narrowed to a child box (geometry::DistanceBvh::narrow, what the
 // narrow band does for the cells under one grandparent) is as good as a
 // list gathered for the child itself: exact distances everywhere in the child.
 TEST(ProxyParts, NarrowedCandidatesGiveExactDistancesInTheChildBox) {
   Soup soup = shapes::to_soup(shapes::torus(1.0, 0.3, 24, 12), 0.01, 3);
-  TriangleBvh bvh(soup);
+  geometry::DistanceBvh bvh(soup);
   std::mt19937 rng(13);
   std::uniform_real_distribution<double> u(-1.6, 1.6), s(0.02, 0.3), t(0.0, 1.0);
   size_t parent_total = 0, child_total = 0;
@@ -124,7 +114,7 @@ TEST(ProxyParts, NarrowedCandidatesGiveExactDistancesInTheChildBox) {
     Vec3 c{u(rng), u(rng), u(rng) * 0.5};
     double half = s(rng);
     Box3 parent{c - Vec3{half, half, half}, c + Vec3{half, half, half}};
-    CandidateList parent_list, child_list;
+    geometry::CandidateList parent_list, child_list;
     bvh.gather(parent, bvh.distance(c) + std::sqrt(3.0) * half, parent_list);
     // One octant of the parent, with its own (smaller) radius.
     Vec3 lo{t(rng) < 0.5 ? parent.lo.x : c.x, t(rng) < 0.5 ? parent.lo.y : c.y, t(rng) < 0.5 ? parent.lo.z : c.z};
@@ -145,7 +135,7 @@ TEST(ProxyParts, NarrowedCandidatesGiveExactDistancesInTheChildBox) {
 
 TEST(ProxyParts, BvhContainsMatchesWindingNumber) {
   TriMesh torus = shapes::torus(1.0, 0.4, 32, 16);
-  TriangleBvh bvh(torus);
+  geometry::DistanceBvh bvh(torus);
   std::mt19937 rng(11);
   std::uniform_real_distribution<double> u(-1.5, 1.5);
   int inside = 0;
@@ -203,7 +193,7 @@ TEST(ProxyParts, TopologyOfKnownMeshes) {
 
 TEST(ProxyParts, NarrowBandKeepsEveryCrossingCellOfADenseGrid) {
   Soup soup = shapes::to_soup(shapes::cube(1.0, 2), 0.002, 5);
-  TriangleBvh bvh(soup);
+  geometry::DistanceBvh bvh(soup);
   Box3 box = bounding_box(soup);
   double offset = 0.08, cell = 1.0 / 40;
   // Without pruning: the closed cube's inner shell is in the band too.
@@ -241,7 +231,7 @@ TEST(ProxyParts, NarrowBandKeepsEveryCrossingCellOfADenseGrid) {
 // dense twin's flood fill from the border (through f > 0 corners) touches.
 TEST(ProxyParts, PrunedNarrowBandKeepsTheOuterShellOnly) {
   Soup soup = shapes::to_soup(shapes::cube(1.0, 2), 0.002, 5);
-  TriangleBvh bvh(soup);
+  geometry::DistanceBvh bvh(soup);
   Box3 box = bounding_box(soup);
   double offset = 0.08, cell = 1.0 / 40;
   NarrowBand full = build_narrow_band(bvh, box, offset, cell, Progress::none(), false);
@@ -290,7 +280,7 @@ TEST(ProxyParts, PrunedNarrowBandKeepsTheOuterShellOnly) {
 // 8 (the volume).
 TEST(ProxyParts, NarrowBandGrowsWithTheSurfaceNotTheVolume) {
   Soup soup = shapes::to_soup(shapes::icosphere(1.0, 3), 1e-3, 2);
-  TriangleBvh bvh(soup);
+  geometry::DistanceBvh bvh(soup);
   Box3 box = bounding_box(soup);
   // Unpruned: pruning the inner shell kicks in at the finer cell only.
   NarrowBand coarse = build_narrow_band(bvh, box, 0.03, 0.02, Progress::none(), false);

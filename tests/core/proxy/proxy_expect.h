@@ -6,7 +6,7 @@
 
 #include "soupuv/proxy/mesh_checks.h"
 #include "soupuv/proxy/proxy.h"
-#include "soupuv/proxy/triangle_bvh.h"
+#include "soupuv/geometry/distance_bvh.h"
 
 namespace soupuv::proxy {
 
@@ -28,7 +28,7 @@ inline void expect_valid_proxy(const ProxyResult& r, const Soup& soup, int outer
   EXPECT_TRUE(t.closed && t.oriented && t.manifold);
   EXPECT_EQ(t.degenerate_faces, 0u);
   EXPECT_EQ(t.euler(), r.euler);
-  TriangleBvh bvh(r.proxy.mesh);
+  geometry::DistanceBvh bvh(r.proxy.mesh);
   size_t step = std::max<size_t>(1, soup.positions.size() / 200), outside = 0;
   for (size_t i = 0; i < soup.positions.size(); i += step) outside += !bvh.contains(soup.positions[i]);
   EXPECT_EQ(outside, 0u);

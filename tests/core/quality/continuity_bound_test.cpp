@@ -11,8 +11,8 @@ namespace {
 
 ContinuityBound of(const TriMesh& mesh) {
   const Soup soup = shapes::to_soup(mesh, 0.0);
-  const Weld weld = weld_corners(soup, 0.0);
-  return continuity_bound(soup, weld, edge_adjacency(weld, soup.triangles.size()));
+  const geometry::Weld weld = geometry::weld_corners(soup, 0.0);
+  return continuity_bound(soup, weld, geometry::edge_adjacency(weld, soup.triangles.size()));
 }
 
 }  // namespace

@@ -34,7 +34,7 @@ TEST(Discontinuity, EveryCutPairGetsOneCause) {
   CornerUvs uv(n);
   for (size_t t = 0; t < n; ++t)
     for (int k = 0; k < 3; ++k) uv[t][k] = {0.1 + 0.1 * s.corner(t, k).x, 0.1 + 0.1 * s.corner(t, k).y};
-  auto pairs = edge_adjacency(weld_corners(s, 0.0), n);
+  auto pairs = geometry::edge_adjacency(geometry::weld_corners(s, 0.0), n);
   ASSERT_EQ(pairs.size(), 7u);
   CornerLanding land;
   land.missed.assign(3 * n, 0);
@@ -64,15 +64,15 @@ TEST(Discontinuity, EveryCutPairGetsOneCause) {
 }
 
 // Diverged pairs once more by why, when the landing knows each corner's line
-// and the UVs before the repair.
+// (soup copies that started apart, or one line whose copies moved apart).
 TEST(Discontinuity, DivergedPairsSayWhy) {
   Soup s = strip();
   const size_t n = s.triangles.size();
   CornerUvs uv(n);
   for (size_t t = 0; t < n; ++t)
     for (int k = 0; k < 3; ++k) uv[t][k] = {0.1 + 0.1 * s.corner(t, k).x, 0.1 + 0.1 * s.corner(t, k).y};
-  const Weld weld = weld_corners(s, 0.0);
-  auto pairs = edge_adjacency(weld, n);
+  const geometry::Weld weld = geometry::weld_corners(s, 0.0);
+  auto pairs = geometry::edge_adjacency(weld, n);
   CornerLanding land;
   land.missed.assign(3 * n, 0);
   land.first_chart.assign(3 * n, 0);
@@ -81,19 +81,16 @@ TEST(Discontinuity, DivergedPairsSayWhy) {
   for (int k = 0; k < 3; ++k) land.line[3 + k] = 100 + k;  // ... but triangle 1 has its own
   for (int k = 0; k < 3; ++k) uv[1][k].y += 0.3;  // its lines went elsewhere: pair (0,1)
   for (int k = 0; k < 3; ++k) uv[7][k].y += 0.3;  // one line, apart anyway: (4,7), (6,7)
-  land.before_repair = uv;
-  for (int k = 0; k < 3; ++k) uv[5][k].x += 0.3;  // the repair moved it: (2,5), (4,5)
+  for (int k = 0; k < 3; ++k) uv[5][k].x += 0.3;  // moved after landing: (2,5), (4,5)
   DiscontinuityBreakdown b = discontinuity_breakdown(s, uv, pairs, land, 1024, 0.1);
   EXPECT_EQ(b.diverged, 5u);
   EXPECT_EQ(b.diverged_apart_lines, 1u);
-  EXPECT_EQ(b.diverged_by_repair, 2u);
-  EXPECT_EQ(b.diverged_one_line, 2u);
+  EXPECT_EQ(b.diverged_one_line, 4u);
   // Without the optional data the split is not made.
   land.line.clear();
-  land.before_repair.clear();
   b = discontinuity_breakdown(s, uv, pairs, land, 1024, 0.1);
   EXPECT_EQ(b.diverged, 5u);
-  EXPECT_EQ(b.diverged_apart_lines + b.diverged_by_repair + b.diverged_one_line, 0u);
+  EXPECT_EQ(b.diverged_apart_lines + b.diverged_one_line, 0u);
 }
 
 // A UV sliver carries the squared L2 stretch sum; the worst-1 % breakdown puts
@@ -105,7 +102,7 @@ TEST(Discontinuity, WorstStretchTrianglesGetACause) {
   for (size_t t = 0; t < n; ++t)
     for (int k = 0; k < 3; ++k) uv[t][k] = {0.1 + 0.1 * s.corner(t, k).x, 0.1 + 0.1 * s.corner(t, k).y};
   uv[6][2].y = 0.101;  // triangle 6's third corner nearly onto its first edge
-  auto pairs = edge_adjacency(weld_corners(s, 0.0), n);
+  auto pairs = geometry::edge_adjacency(geometry::weld_corners(s, 0.0), n);
   CornerLanding land;
   land.missed.assign(3 * n, 0);
   land.first_chart.assign(3 * n, 0);

@@ -5,7 +5,9 @@
 #include "soupuv/errors.h"
 #include "testing/shapes.h"
 #include "soupuv/transfer/transfer.h"
-#include "soupuv/transfer/triangle_bvh.h"
+#include "soupuv/geometry/surface_hit_bvh.h"
+#include "soupuv/geometry/closest_point.h"
+#include "soupuv/geometry/segment_triangle.h"
 
 using namespace soupuv;
 using namespace soupuv::transfer;
@@ -60,9 +62,9 @@ field::FieldLines radial_lines(const Soup& soup, double reach, int points) {
 
 }  // namespace
 
-TEST(TriangleBvh, MatchesBruteForce) {
+TEST(SurfaceHitBvh, MatchesBruteForce) {
   TriMesh m = shapes::torus(1.0, 0.4, 24, 12);
-  TriangleBvh bvh(m);
+  geometry::SurfaceHitBvh bvh(m);
   std::mt19937 rng(5);
   std::uniform_real_distribution<double> u(-2, 2);
   for (int q = 0; q < 300; ++q) {
@@ -72,17 +74,17 @@ TEST(TriangleBvh, MatchesBruteForce) {
     for (const auto& f : m.faces) {
       double t;
       std::array<double, 3> bary;
-      if (segment_triangle(a, b, m.vertices[f[0]], m.vertices[f[1]], m.vertices[f[2]], t, bary))
+      if (geometry::segment_triangle_hit(a, b, m.vertices[f[0]], m.vertices[f[1]], m.vertices[f[2]], t, bary))
         best_t = std::min(best_t, t);
-      best_d = std::min(best_d, norm(a - closest_point_on_triangle(a, m.vertices[f[0]], m.vertices[f[1]],
-                                                                   m.vertices[f[2]], bary)));
+      best_d = std::min(best_d, geometry::point_triangle_distance(a, m.vertices[f[0]], m.vertices[f[1]],
+                                                                  m.vertices[f[2]]));
     }
-    SurfacePoint hit = bvh.first_hit(a, b);
+    geometry::SurfacePoint hit = bvh.first_hit(a, b);
     EXPECT_EQ(hit.found(), std::isfinite(best_t));
     if (hit.found()) {
       EXPECT_NEAR(hit.t, best_t, 1e-12);
     }
-    SurfacePoint cp = bvh.closest_point(a);
+    geometry::SurfacePoint cp = bvh.closest_point(a);
     EXPECT_NEAR(cp.t, best_d, 1e-12);
     // Barycentrics reproduce the point.
     const auto& f = m.faces[cp.face];

@@ -9,7 +9,7 @@
 #include <functional>
 
 #include "soupuv/quality/uv_overlap.h"
-#include "soupuv/quality/weld.h"
+#include "soupuv/geometry/weld.h"
 
 namespace soupuv {
 namespace {
@@ -54,23 +54,23 @@ void add_grid(Case& c, int n, const std::function<Vec3(double, double)>& place,
 struct Solved {
   CornerUvs uv;
   nlohmann::json diagnostics;
-  std::vector<quality::AdjacentPair> pairs;
+  std::vector<geometry::AdjacentPair> pairs;
 };
 
 Solved solve(const Case& c, double uv_per_length) {
-  const quality::Weld weld = quality::weld_corners(c.soup, 1e-9);
+  const geometry::Weld weld = geometry::weld_corners(c.soup, 1e-9);
   const std::vector<int> chart(3 * c.soup.triangles.size(), 0);
   uvsolve::SoupUvOptions o;
   o.threads = 2;
   uvsolve::SoupUvResult r = uvsolve::solve_soup_uvs(c.soup, weld, c.uv, chart, uv_per_length, 1.0 / 1024, o,
                                                     Progress::none());
-  return {std::move(r.corner_uvs), std::move(r.diagnostics), quality::edge_adjacency(weld, c.soup.triangles.size())};
+  return {std::move(r.corner_uvs), std::move(r.diagnostics), geometry::edge_adjacency(weld, c.soup.triangles.size())};
 }
 
 double signed_area(const std::array<Vec2, 3>& p) { return 0.5 * cross(p[1] - p[0], p[2] - p[0]); }
 
 // A pair is continuous when its two shared corners have the same UVs.
-bool continuous(const CornerUvs& uv, const quality::AdjacentPair& p) {
+bool continuous(const CornerUvs& uv, const geometry::AdjacentPair& p) {
   for (int i = 0; i < 2; ++i)
     if (norm(uv[p.a][p.a_corner[i]] - uv[p.b][p.b_corner[i]]) > 1e-9) return false;
   return true;

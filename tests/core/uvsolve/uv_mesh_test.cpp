@@ -6,7 +6,7 @@
 
 #include <map>
 
-#include "soupuv/quality/weld.h"
+#include "soupuv/geometry/weld.h"
 
 namespace soupuv {
 namespace {
@@ -50,7 +50,7 @@ std::map<std::pair<uint32_t, uint32_t>, int> directed_edges(const uvsolve::detai
 
 TEST(UvMesh, SoundWeldGivesOneIsland) {
   const Strip s = strip(6);
-  const quality::Weld weld = quality::weld_corners(s.soup, 1e-9);
+  const geometry::Weld weld = geometry::weld_corners(s.soup, 1e-9);
   const auto L = uvsolve::detail::build_uv_mesh(s.soup, weld, s.uv, std::vector<int>(3 * s.soup.triangles.size(), 0),
                                                 1.0 / 1024, 0.01);
   EXPECT_EQ(L.island_count, 1u);
@@ -62,7 +62,7 @@ TEST(UvMesh, CornerWeldedToTheWrongVertexIsDetachedNotGlued) {
   // (what noise past the shortest edge does): two triangles then use an edge
   // the same way. The layout must not glue through it.
   const Strip s = strip(6);
-  quality::Weld weld = quality::weld_corners(s.soup, 1e-9);
+  geometry::Weld weld = geometry::weld_corners(s.soup, 1e-9);
   // Triangle 4 is (1,0) (2,0) (2,1); its corner (2,1) goes to the vertex
   // (3,1) (corner 2 of triangle 8, (2,0) (3,0) (3,1)). Its edge (2,0)->(3,1)
   // is then used by triangle 9 the same way and by triangle 8 back.

@@ -82,7 +82,7 @@ class Fmm {
   double far_potential(int leaf, Vec3 x) const;
 
   // True when the closed segment ab meets a source triangle (coplanar
-  // segments do not count; see segment_intersects_triangle).
+  // segments do not count; see geometry::segment_crosses_triangle).
   bool segment_crosses(Vec3 a, Vec3 b) const;
 
   // Source triangles (input indices) a target leaf takes directly.

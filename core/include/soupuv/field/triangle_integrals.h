@@ -22,11 +22,4 @@ struct TriangleIntegrals {
 
 TriangleIntegrals triangle_integrals(Vec3 a, Vec3 b, Vec3 c, Vec3 x);
 
-// Euclidean distance from x to the closed triangle abc.
-double point_triangle_distance(Vec3 a, Vec3 b, Vec3 c, Vec3 x);
-
-// True when the closed segment pq meets the closed triangle abc (signed-volume
-// tests; coplanar segments count as not crossing).
-bool segment_intersects_triangle(Vec3 p, Vec3 q, Vec3 a, Vec3 b, Vec3 c);
-
 }  // namespace soupuv::field

@@ -13,12 +13,12 @@
 #pragma once
 
 #include "soupuv/mesh.h"
-#include "soupuv/proxy/triangle_bvh.h"
+#include "soupuv/geometry/distance_bvh.h"
 
 namespace soupuv::proxy {
 
 // Returns the smallest distance ratio d / o over the vertices after lifting.
-double lift_to_offset(TriMesh& mesh, const TriangleBvh& soup_bvh, double offset, double max_step,
+double lift_to_offset(TriMesh& mesh, const geometry::DistanceBvh& soup_bvh, double offset, double max_step,
                       int iterations);
 
 }  // namespace soupuv::proxy

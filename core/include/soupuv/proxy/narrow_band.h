@@ -25,7 +25,7 @@
 #include <vector>
 
 #include "soupuv/progress.h"
-#include "soupuv/proxy/triangle_bvh.h"
+#include "soupuv/geometry/distance_bvh.h"
 #include "soupuv/vec.h"
 
 namespace soupuv::proxy {
@@ -66,7 +66,7 @@ struct NarrowBand {
 };
 
 // `box` bounds the soup; the grid pads it by o + 2h on every side.
-NarrowBand build_narrow_band(const TriangleBvh& soup_bvh, const Box3& box, double offset,
+NarrowBand build_narrow_band(const geometry::DistanceBvh& soup_bvh, const Box3& box, double offset,
                              double cell, Progress& progress, bool outer_only = true);
 
 }  // namespace soupuv::proxy

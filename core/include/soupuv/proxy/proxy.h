@@ -74,24 +74,6 @@ struct ProxyOptions {
   // Self-intersection test (CGAL PMP); costs about as much as the remeshing.
   bool check_self_intersections = true;
 
-  // Keep gaps open (gap_offsets.h): where two parts of the soup that are far
-  // apart along the soup come closer than 2o in space (legs side by side),
-  // their triangles get a smaller local offset, so the level set leaves a
-  // slit between them instead of fusing them into one blob. The grid then
-  // runs gap_resolution_factor times finer (a slit must be a few cells wide
-  // to be sampled); local offsets stay >= gap_min_offset_cells cells, the
-  // slit is 2 * gap_margin_cells cells wide. Corners closer than
-  // gap_weld_fraction of the diagonal touch: it must exceed the distance
-  // between the split copies of a vertex (the shared soups: noise up to 1e-3
-  // of the diagonal per coordinate, copies up to 3.5e-3 apart), or touching
-  // triangles count as far apart and get narrowed. Quadratic in the soup's
-  // triangles (gap_offsets.h): for small soups only.
-  bool keep_gaps = false;
-  double gap_resolution_factor = 2;
-  double gap_min_offset_cells = 1;
-  double gap_margin_cells = 0.75;
-  double gap_weld_fraction = 4e-3;
-
   int threads = 0;  // OpenMP threads; 0 = OpenMP default
 };
 
@@ -128,12 +110,6 @@ struct ProxyResult {
   double seconds_grid = 0, seconds_extract = 0, seconds_remesh = 0,
          seconds_smooth = 0, seconds_checks = 0;
   double seconds_decimate = 0;   // the short-edge collapse part of seconds_remesh (ours, not CGAL's)
-  // keep_gaps: soup triangles whose local offset is below o, the smallest
-  // local offset, and the seconds the gap analysis took. With keep_gaps,
-  // min_distance is measured to the shells of the local offsets (d + o - o_t).
-  size_t gap_narrowed_triangles = 0;
-  double gap_smallest_offset = 0;
-  double seconds_gaps = 0;
   std::vector<std::string> warnings;
 
   bool ok() const {

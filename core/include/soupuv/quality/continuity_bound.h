@@ -23,7 +23,7 @@
 #include <cstddef>
 #include <vector>
 
-#include "soupuv/quality/weld.h"
+#include "soupuv/geometry/weld.h"
 #include "soupuv/soup.h"
 
 namespace soupuv::quality {
@@ -35,8 +35,8 @@ struct ContinuityBound {
   double bound = 1;  // 1 when there are no pairs
 };
 
-ContinuityBound continuity_bound(const Soup& soup, const Weld& weld,
-                                 const std::vector<AdjacentPair>& adjacency,
+ContinuityBound continuity_bound(const Soup& soup, const geometry::Weld& weld,
+                                 const std::vector<geometry::AdjacentPair>& adjacency,
                                  double cone_defect = 0.7853981633974483 /* pi/4 */);
 
 }  // namespace soupuv::quality

@@ -11,11 +11,10 @@
 //   corrected   they landed on one chart, but §8 moved one of them elsewhere;
 //   diverged    one chart throughout, yet the landing points lie apart
 //               (the lines parted between soup and proxy);
-// and, when the landing knows each corner's line and the UVs before the
-// repair, the diverged pairs once more by why: the repair moved a pair that
-// was continuous before it (diverged_by_repair), the copies started
-// different lines (diverged_apart_lines: their seeds were not welded), or
-// neither (diverged_one_line: one line, moved apart afterwards);
+// and, when the landing knows each corner's line, the diverged pairs once
+// more by why: the copies started different lines (diverged_apart_lines:
+// their seeds were not welded), or not (diverged_one_line: one line, moved
+// apart afterwards);
 // and flipped triangles as line crossings (all corners on one chart, no
 // miss) or chart/miss trouble (the rest); the L2 stretch of both groups.
 #pragma once
@@ -26,7 +25,7 @@
 #include <nlohmann/json.hpp>
 
 #include "soupuv/quality/uv_metrics.h"
-#include "soupuv/quality/weld.h"
+#include "soupuv/geometry/weld.h"
 #include "soupuv/soup.h"
 
 namespace soupuv::quality {
@@ -35,16 +34,14 @@ struct CornerLanding {
   std::vector<uint8_t> missed;    // per corner (triangle * 3 + k)
   std::vector<int> first_chart;   // before §8
   std::vector<int> final_chart;   // after §8
-  // Optional (empty: unknown): the field line each corner's UV came from,
-  // and the corner UVs before the UV repair.
+  // Optional (empty: unknown): the field line each corner's UV came from.
   std::vector<uint32_t> line;
-  CornerUvs before_repair;
 };
 
 struct DiscontinuityBreakdown {
   size_t pairs = 0, discontinuous = 0;
   size_t missed = 0, split = 0, corrected = 0, diverged = 0;
-  size_t diverged_by_repair = 0, diverged_apart_lines = 0, diverged_one_line = 0;
+  size_t diverged_apart_lines = 0, diverged_one_line = 0;
   size_t flipped = 0, flipped_one_chart = 0, flipped_other = 0;
   // L2 stretch (uv_metrics' normalisation) of the triangles whose corners all
   // hit one chart, and of the others (chart correction or fallback placed them).
@@ -65,7 +62,7 @@ struct DiscontinuityBreakdown {
 };
 
 DiscontinuityBreakdown discontinuity_breakdown(const Soup& soup, const CornerUvs& uvs,
-                                               const std::vector<AdjacentPair>& adjacency,
+                                               const std::vector<geometry::AdjacentPair>& adjacency,
                                                const CornerLanding& landing,
                                                int texture_size, double uv_per_length);
 

@@ -8,18 +8,17 @@
 //                 altitude < sliver_aspect x longest edge): its UV shape is
 //                 decided by landing noise, not by the map;
 //   missed        a corner's field line missed the proxy (fallback placed it);
-//   cut           the intersection refinement re-placed a corner (probes);
 //   split         corners first landed on different charts (§8 chose one);
 //   corrected     one chart at first, but §8 moved a corner to another;
 //   chart_border  one chart throughout, and a corner's welded vertex also
 //                 lies on another chart (the triangle touches a seam or an
 //                 open border of its chart);
 //   converged     one chart, inside it: the field lines themselves converged.
-// plus two flags per listed triangle: the UV repair moved it, it is flipped.
+// plus a flag per listed triangle: it is flipped.
 //
 // Input : the soup, final corner UVs (the scale is uv_metrics' own for
 //         stretch_l2: sqrt(total UV area / total 3D area)), per corner what the transfer saw (CornerLanding), and per triangle
-//         flags: cut by the refinement, on a chart border, moved by the repair.
+//         flags: on a chart border.
 // Output: counts and squared-sum shares per class, and the worst triangles
 //         with their figures (for the diagnostics and the bench).
 #pragma once
@@ -50,7 +49,7 @@ struct TailTriangle {
   double stretch = 0;      // per-triangle L2 stretch at the metric's scale
   double area_ratio = 0;   // UV area / (3D area x scale^2), signed by the dominant orientation
   double aspect_3d = 0;    // shortest altitude / longest edge
-  bool repaired = false, flipped = false;
+  bool flipped = false;
 };
 
 struct StretchTail {
@@ -59,15 +58,12 @@ struct StretchTail {
   std::vector<std::string> classes;           // class names, in order
   std::vector<size_t> class_count;            // per class
   std::vector<double> class_share;            // per class, share of the squared sum
-  size_t repaired = 0;                        // listed triangles the repair moved
   std::vector<TailTriangle> worst;            // first max_detailed
   nlohmann::json to_json() const;
 };
 
 struct TailFlags {
-  std::vector<uint8_t> cut;           // per triangle (may be empty)
   std::vector<uint8_t> chart_border;  // per triangle (may be empty)
-  std::vector<uint8_t> repaired;      // per triangle (may be empty)
 };
 
 StretchTail stretch_tail(const Soup& soup, const CornerUvs& uvs, const CornerLanding& landing,

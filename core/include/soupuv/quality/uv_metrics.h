@@ -24,7 +24,7 @@
 
 #include <nlohmann/json.hpp>
 
-#include "soupuv/quality/weld.h"
+#include "soupuv/geometry/weld.h"
 #include "soupuv/soup.h"
 
 namespace soupuv::quality {
@@ -64,14 +64,8 @@ struct UvMetrics {
 };
 
 UvMetrics uv_metrics(const Soup& soup, const CornerUvs& uvs,
-                     const std::vector<AdjacentPair>& adjacency,
+                     const std::vector<geometry::AdjacentPair>& adjacency,
                      const UvMetricsOptions& options = {});
-
-// Singular values (largest, smallest) of the map from the triangle's UV
-// domain onto its 3D triangle (Sander et al.'s Gamma and gamma, before the
-// global normalisation); false when the UV triangle has no area.
-bool stretch_singular_values(Vec3 p0, Vec3 p1, Vec3 p2, const std::array<Vec2, 3>& uv,
-                             double& big, double& small);
 
 // Area-weighted L2 stretch over the triangles with include[t] != 0, at a
 // given global scale (UvMetrics::uv_per_length convention: the normalisation
@@ -82,7 +76,7 @@ double stretch_l2_subset(const Soup& soup, const CornerUvs& uvs,
 // The adjacency for metrics: exact from `original` (a welded mesh with the
 // same triangle order as `soup`), else by welding the soup within
 // `weld_tolerance` (absolute).
-std::vector<AdjacentPair> metric_adjacency(const Soup& soup, const Soup* original,
+std::vector<geometry::AdjacentPair> metric_adjacency(const Soup& soup, const Soup* original,
                                            double weld_tolerance);
 
 // Diagnostics fields: coverage, flipped_fraction, stretch_l2, continuity, ...

@@ -26,9 +26,9 @@
 #include "soupuv/atlas/atlas.h"
 #include "soupuv/progress.h"
 #include "soupuv/proxy/proxy_mesh.h"
-#include "soupuv/quality/weld.h"
+#include "soupuv/geometry/weld.h"
 #include "soupuv/soup.h"
-#include "soupuv/transfer/triangle_bvh.h"
+#include "soupuv/geometry/surface_hit_bvh.h"
 
 namespace soupuv::transfer {
 
@@ -40,9 +40,9 @@ struct ChartFixResult {
 // Updates corner_uvs (and landing) in place.
 ChartFixResult fix_chart_boundaries(const Soup& soup, const proxy::ProxyMesh& proxy,
                                     const atlas::Atlas& atlas,
-                                    std::vector<SurfacePoint>& landing,
+                                    std::vector<geometry::SurfacePoint>& landing,
                                     std::vector<std::array<Vec2, 3>>& corner_uvs,
                                     Progress& progress,
-                                    const std::vector<quality::AdjacentPair>* neighbours = nullptr);
+                                    const std::vector<geometry::AdjacentPair>* neighbours = nullptr);
 
 }  // namespace soupuv::transfer

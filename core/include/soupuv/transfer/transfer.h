@@ -25,9 +25,9 @@
 #include "soupuv/field/field_lines.h"
 #include "soupuv/progress.h"
 #include "soupuv/proxy/proxy_mesh.h"
-#include "soupuv/quality/weld.h"
+#include "soupuv/geometry/weld.h"
 #include "soupuv/soup.h"
-#include "soupuv/transfer/triangle_bvh.h"
+#include "soupuv/geometry/surface_hit_bvh.h"
 
 namespace soupuv::transfer {
 
@@ -36,13 +36,13 @@ struct TransferOptions {
   // The soup's near-neighbour graph (a weld's edge adjacency) for the §8
   // choice, so neighbours pick the same chart (chart_fix.h); nullptr: each
   // triangle alone. Must outlive the call.
-  const std::vector<quality::AdjacentPair>* neighbours = nullptr;
+  const std::vector<geometry::AdjacentPair>* neighbours = nullptr;
   int threads = 0;                   // OpenMP threads; 0 = default
 };
 
 struct TransferResult {
   std::vector<std::array<Vec2, 3>> corner_uvs;  // per soup triangle
-  std::vector<SurfacePoint> landing;            // per corner (triangle*3+k): proxy face, bary
+  std::vector<geometry::SurfacePoint> landing;            // per corner (triangle*3+k): proxy face, bary
   // Per corner, for the discontinuity breakdown: its line missed the proxy
   // (a fallback placed it), and the chart it landed on before the §8 correction.
   std::vector<uint8_t> missed;
@@ -73,13 +73,6 @@ TransferResult transfer_uvs(const Soup& soup, const field::FieldLines& lines,
                             Progress& progress = Progress::none());
 
 // UV of a proxy surface point: barycentric mix of its face's atlas corner UVs.
-Vec2 atlas_uv(const atlas::Atlas& atlas, const SurfacePoint& p);
-
-// Where lines that start at arbitrary points land (the probes of cut
-// triangles, see intersect.h), with the same fallbacks; fallback_points[i] is
-// line i's start for the closest-point fallback.
-std::vector<SurfacePoint> land_lines(const field::FieldLines& lines,
-                                     const std::vector<Vec3>& fallback_points,
-                                     const proxy::ProxyMesh& proxy);
+Vec2 atlas_uv(const atlas::Atlas& atlas, const geometry::SurfacePoint& p);
 
 }  // namespace soupuv::transfer

@@ -38,7 +38,7 @@
 #include <nlohmann/json.hpp>
 
 #include "soupuv/progress.h"
-#include "soupuv/quality/weld.h"
+#include "soupuv/geometry/weld.h"
 #include "soupuv/soup.h"
 
 namespace soupuv::uvsolve {
@@ -72,7 +72,7 @@ struct SoupUvResult {
   nlohmann::json diagnostics;  // the figures of every step, and seconds
 };
 
-SoupUvResult solve_soup_uvs(const Soup& soup, const quality::Weld& weld,
+SoupUvResult solve_soup_uvs(const Soup& soup, const geometry::Weld& weld,
                             const std::vector<std::array<Vec2, 3>>& transferred,
                             const std::vector<int>& corner_chart, double uv_per_length,
                             double texel, const SoupUvOptions& options, Progress& progress);
