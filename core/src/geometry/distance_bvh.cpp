@@ -209,25 +209,48 @@ void DistanceBvh::narrow(const CandidateList& from, const Box3& box, double radi
   for (auto* v : out.arrays()) v->resize(padded_size(kept));
 }
 
+namespace {
+
+// The running search both distance queries share: the squared distance to
+// beat (hi^2 to start; INFINITY stays INFINITY), the squared early-stop bound
+// (lo <= 0: never stop early), the nearest triangle so far (the caller's
+// hint to start with) and its report to the caller.
+struct NearestSearch {
+  double best2, lo2;
+  uint32_t best;
+  uint32_t* nearest;
+  size_t triangles;
+  NearestSearch(double lo, double hi, uint32_t* nearest_out, size_t triangle_count)
+      : best2(hi * hi), lo2(lo > 0 ? lo * lo : -1.0), best(nearest_out ? *nearest_out : UINT32_MAX),
+        nearest(nearest_out), triangles(triangle_count) {}
+  // Triangle i at squared distance d2: kept when nearer; true when the
+  // search may stop (nearer than lo).
+  bool offer(double d2, uint32_t i) {
+    if (!(d2 < best2)) return false;
+    best2 = d2;
+    best = i;
+    return best2 < lo2;
+  }
+  double done(double result) const {
+    if (nearest && best < triangles) *nearest = best;
+    return result;
+  }
+};
+
+}  // namespace
+
 double DistanceBvh::distance_among(Vec3 p, const CandidateList& list, double lo, double hi,
                                    uint32_t* nearest) const {
-  double best2 = hi * hi;
-  double lo2 = lo > 0 ? lo * lo : -1.0;
-  uint32_t best = nearest ? *nearest : UINT32_MAX;
-  auto done = [&](double result) {
-    if (nearest && best < tris_.size()) *nearest = best;
-    return result;
-  };
-  if (warm_start(tris_, p, lo2, best2, best))
-    return done(std::sqrt(best2));
+  NearestSearch search(lo, hi, nearest, tris_.size());
+  if (warm_start(tris_, p, search.lo2, search.best2, search.best)) return search.done(std::sqrt(search.best2));
   const float px = float(p.x - list.center.x), py = float(p.y - list.center.y), pz = float(p.z - list.center.z);
   // Float rounding of a box or plane distance is below 2^-21 of the largest
   // local coordinate involved; 2^-18 of it as slack keeps every skip certain.
   const double slack = std::max({double(list.extent), std::fabs(double(px)), std::fabs(double(py)),
                                  std::fabs(double(pz))}) * 0x1p-18;
   auto threshold = [&] {
-    if (!(best2 < INFINITY)) return double(INFINITY);
-    double b = std::sqrt(best2) + slack;
+    if (!(search.best2 < INFINITY)) return double(INFINITY);
+    double b = std::sqrt(search.best2) + slack;
     return b * b * (1 + 1e-6);
   };
   float limit = float(threshold());
@@ -257,15 +280,13 @@ double DistanceBvh::distance_among(Vec3 p, const CandidateList& list, double lo,
       uint32_t i = list.ids[s + k];
       const auto& t = tris_[i];
       double d2 = point_triangle_distance2(p, t[0], t[1], t[2]);
-      if (d2 < best2) {
-        best2 = d2;
-        best = i;
-        if (best2 < lo2) return done(std::sqrt(best2));
+      if (d2 < search.best2) {
+        if (search.offer(d2, i)) return search.done(std::sqrt(search.best2));
         limit = float(threshold());
       }
     }
   }
-  return done(best2 < hi * hi ? std::sqrt(best2) : hi);
+  return search.done(search.best2 < hi * hi ? std::sqrt(search.best2) : hi);
 }
 
 uint32_t DistanceBvh::build_node(uint32_t first, uint32_t count, int depth) {
@@ -300,45 +321,34 @@ uint32_t DistanceBvh::build_node(uint32_t first, uint32_t count, int depth) {
 
 double DistanceBvh::distance(Vec3 p, double lo, double hi, uint32_t* nearest) const {
   if (nodes_.empty()) return hi;
-  double best2 = hi * hi;  // INFINITY stays INFINITY
-  double lo2 = lo > 0 ? lo * lo : -1.0;  // lo <= 0: never stop early
-  uint32_t best = nearest ? *nearest : UINT32_MAX;
-  auto done = [&](double result) {
-    if (nearest && best < tris_.size()) *nearest = best;
-    return result;
-  };
-  if (warm_start(tris_, p, lo2, best2, best))
-    return done(std::sqrt(best2));
+  NearestSearch search(lo, hi, nearest, tris_.size());
+  if (warm_start(tris_, p, search.lo2, search.best2, search.best)) return search.done(std::sqrt(search.best2));
   uint32_t stack[128];
   int top = 0;
   stack[top++] = 0;
   while (top > 0) {
     const Node& node = nodes_[stack[--top]];
-    if (box_distance2(node.box, p) >= best2) continue;
+    if (box_distance2(node.box, p) >= search.best2) continue;
     if (node.count > 0) {
       for (uint32_t i = node.first; i < node.first + node.count; ++i) {
         const auto& t = tris_[i];
         double d2 = point_triangle_distance2(p, t[0], t[1], t[2]);
-        if (d2 < best2) {
-          best2 = d2;
-          best = i;
-          if (best2 < lo2) return done(std::sqrt(best2));
-        }
+        if (search.offer(d2, i)) return search.done(std::sqrt(search.best2));
       }
       continue;
     }
-    // Visit the nearer child first: it tightens best2 and prunes the other.
+    // Visit the nearer child first: it tightens the bound and prunes the other.
     uint32_t left = static_cast<uint32_t>(&node - nodes_.data()) + 1, right = node.first;
     double dl = box_distance2(nodes_[left].box, p), dr = box_distance2(nodes_[right].box, p);
     if (dl < dr) {
-      if (dr < best2) stack[top++] = right;
-      if (dl < best2) stack[top++] = left;
+      if (dr < search.best2) stack[top++] = right;
+      if (dl < search.best2) stack[top++] = left;
     } else {
-      if (dl < best2) stack[top++] = left;
-      if (dr < best2) stack[top++] = right;
+      if (dl < search.best2) stack[top++] = left;
+      if (dr < search.best2) stack[top++] = right;
     }
   }
-  return done(best2 < hi * hi ? std::sqrt(best2) : hi);
+  return search.done(search.best2 < hi * hi ? std::sqrt(search.best2) : hi);
 }
 
 RayParity DistanceBvh::ray_parity(Vec3 p, Vec3 dir) const {

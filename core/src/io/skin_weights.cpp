@@ -4,11 +4,7 @@
 
 namespace soupuv::io::detail {
 
-namespace {
-
-// The validator's test: the float32 sum, component by component across the
-// sets (its order), within 2e-7 of 1 per non-zero weight.
-bool normalized_for_validator(std::span<const std::array<float, 4>> sets) {
+bool weights_pass_validator(std::span<const std::array<float, 4>> sets) {
   float sum = 0;
   int nonzero = 0;
   for (int c = 0; c < 4; ++c)
@@ -20,10 +16,8 @@ bool normalized_for_validator(std::span<const std::array<float, 4>> sets) {
   return std::fabs(double(sum) - 1.0) <= 2e-7 * nonzero;
 }
 
-}  // namespace
-
 bool normalize_skin_weights(std::span<std::array<float, 4>> sets) {
-  if (sets.empty() || normalized_for_validator(sets)) return false;
+  if (sets.empty() || weights_pass_validator(sets)) return false;
   double sum = 0;
   for (const auto& w : sets)
     for (float x : w) {
@@ -39,7 +33,7 @@ bool normalize_skin_weights(std::span<std::array<float, 4>> sets) {
     }
   // Rounding each weight to float can leave the float32 sum a few ulps off
   // the validator's bound; the largest weight absorbs the rest.
-  if (!normalized_for_validator(sets)) {
+  if (!weights_pass_validator(sets)) {
     float others = 0;
     for (int c = 0; c < 4; ++c)
       for (auto& w : sets)

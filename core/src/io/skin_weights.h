@@ -12,6 +12,10 @@
 
 namespace soupuv::io::detail {
 
+// The validator's test: the float32 sum, component by component across the
+// sets (its order), within 2e-7 of 1 per non-zero weight.
+bool weights_pass_validator(std::span<const std::array<float, 4>> sets);
+
 // One vertex's weights, set by set. Returns false (untouched) when they are
 // already normalized as the validator sums them, or when they cannot be
 // (non-finite, negative, or all zero); otherwise scales them to sum to 1 in
