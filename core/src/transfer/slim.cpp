@@ -115,6 +115,17 @@ bool l2_terms(const RestTriangle& r, const std::array<Vec2, 3>& uv, double& s, d
   return true;
 }
 
+// After a backtracked step to energy `next` in iteration `it`: records it
+// and says whether both solvers go on (no decrease, or a relative decrease
+// below min_relative_decrease, ends them).
+bool keep_going(double next, int it, double min_relative_decrease, double& current, SlimResult& result) {
+  if (!(next < current)) return false;
+  const double gain = (current - next) / current;
+  current = next;
+  result.iterations = it + 1;
+  return !(gain < min_relative_decrease);
+}
+
 }  // namespace
 
 double mesh_energy(const std::vector<std::array<uint32_t, 3>>& triangles,
@@ -216,11 +227,7 @@ SlimResult slim_relax(const std::vector<std::array<uint32_t, 3>>& triangles,
     const double next = flip_free_backtrack(
         triangles, rest, uv, step, target, current,
         [&](const std::vector<Vec2>& x) { return mesh_energy(triangles, rest, x); });
-    if (!(next < current)) break;
-    const double gain = (current - next) / current;
-    current = next;
-    result.iterations = it + 1;
-    if (gain < options.min_relative_decrease) break;
+    if (!keep_going(next, it, options.min_relative_decrease, current, result)) break;
   }
   result.energy_after = current;
   return result;
@@ -362,11 +369,7 @@ SlimResult l2_relax(const std::vector<std::array<uint32_t, 3>>& triangles,
         triangles, rest, uv, step, target, current, [&](const std::vector<Vec2>& x) {
           return mesh_l2_form(triangles, rest, x, others_s, others_u);
         });
-    if (!(next < current)) break;
-    const double gain = (current - next) / current;
-    current = next;
-    result.iterations = it + 1;
-    if (gain < options.min_relative_decrease) break;
+    if (!keep_going(next, it, options.min_relative_decrease, current, result)) break;
   }
   result.energy_after = current;
   return result;
