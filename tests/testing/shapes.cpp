@@ -104,6 +104,19 @@ TriMesh torus_with(double R, double r, int triangles) {
   return torus(R, r, 2 * m, m);
 }
 
+TriMesh plane_grid(Vec3 origin, Vec3 u, Vec3 v, int n) {
+  TriMesh m;
+  for (int j = 0; j <= n; ++j)
+    for (int i = 0; i <= n; ++i) m.vertices.push_back(origin + u * (2.0 * i / n - 1) + v * (2.0 * j / n - 1));
+  for (int j = 0; j < n; ++j)
+    for (int i = 0; i < n; ++i) {
+      const int a = j * (n + 1) + i;
+      m.faces.push_back({a, a + 1, a + n + 2});
+      m.faces.push_back({a, a + n + 2, a + n + 1});
+    }
+  return m;
+}
+
 TriMesh cube(double size, int n) {
   TriMesh m;
   double h = size / 2;

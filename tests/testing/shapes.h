@@ -31,6 +31,10 @@ TriMesh torus_with(double R, double r, int triangles);
 // n x n grid of quads: 12*n*n triangles.
 TriMesh cube(double size, int n);
 
+// An open n x n grid of quads on the plane through `origin` spanned by u and
+// v (each from -1 to 1), two triangles per quad, facing u x v.
+TriMesh plane_grid(Vec3 origin, Vec3 u, Vec3 v, int n);
+
 // Closed cylinder (radius, height along z, centred), with `segments` around,
 // `stacks` along the side and fan-free capped ends made of rings.
 TriMesh cylinder(double radius, double height, int segments, int stacks, int cap_rings);

@@ -9,25 +9,10 @@ using namespace soupuv::field;
 
 namespace {
 
-// n x n grid on a plane through `origin` spanned by u and v (each [-1,1]).
-TriMesh grid(Vec3 origin, Vec3 u, Vec3 v, int n) {
-  TriMesh m;
-  for (int j = 0; j <= n; ++j)
-    for (int i = 0; i <= n; ++i)
-      m.vertices.push_back(origin + u * (2.0 * i / n - 1) + v * (2.0 * j / n - 1));
-  for (int j = 0; j < n; ++j)
-    for (int i = 0; i < n; ++i) {
-      int a = j * (n + 1) + i;
-      m.faces.push_back({a, a + 1, a + n + 2});
-      m.faces.push_back({a, a + n + 2, a + n + 1});
-    }
-  return m;
-}
-
 // Fig. 19: a horizontal plane cut through by a vertical one, off the grid lines.
 Soup crossing_planes(int n) {
-  Soup a = shapes::to_soup(grid({0, 0, 0}, {1, 0, 0}, {0, 1, 0}, n));
-  Soup b = shapes::to_soup(grid({0.037, 0, 0.041}, {0, 1, 0}, {0, 0, 1}, n));
+  Soup a = shapes::to_soup(shapes::plane_grid({0, 0, 0}, {1, 0, 0}, {0, 1, 0}, n));
+  Soup b = shapes::to_soup(shapes::plane_grid({0.037, 0, 0.041}, {0, 1, 0}, {0, 0, 1}, n));
   return shapes::merge(a, b);
 }
 

@@ -8,8 +8,8 @@
 #include <map>
 #include <set>
 
-#include <draco/compression/decode.h>
 
+#include "draco_payload.h"
 #include "soupuv/baseline/box_projection.h"
 #include "soupuv/errors.h"
 #include "soupuv/io/write.h"
@@ -240,13 +240,10 @@ TEST(WriteGlb, DracoDecodesBackToTheSameTriangles) {
   EXPECT_EQ(glb.doc["extensionsRequired"][0], "KHR_draco_mesh_compression");
   const json& prim = glb.doc["meshes"][0]["primitives"][0];
   const json& ext = prim["extensions"]["KHR_draco_mesh_compression"];
-  std::vector<uint8_t> payload = glb.view(ext["bufferView"]);
-  draco::DecoderBuffer buffer;
-  buffer.Init(reinterpret_cast<const char*>(payload.data()), payload.size());
-  draco::Decoder decoder;
-  auto decoded = decoder.DecodeMeshFromBuffer(&buffer);
-  ASSERT_TRUE(decoded.ok()) << decoded.status().error_msg();
-  const draco::Mesh& mesh = *decoded.value();
+  std::string error;
+  const auto decoded = decode_draco_primitive(glb, prim, error);
+  ASSERT_TRUE(decoded) << error;
+  const draco::Mesh& mesh = *decoded;
   const draco::PointAttribute* pos = mesh.GetAttributeByUniqueId(ext["attributes"]["POSITION"]);
   const draco::PointAttribute* tex = mesh.GetAttributeByUniqueId(ext["attributes"]["TEXCOORD_0"]);
   ASSERT_TRUE(pos && tex);

@@ -11,8 +11,8 @@
 
 #include <algorithm>
 
-#include <draco/compression/decode.h>
 
+#include "draco_payload.h"
 #include "load_test_support.h"
 #include "soupuv/baseline/box_projection.h"
 #include "soupuv/io/load.h"
@@ -196,13 +196,10 @@ TEST(WriteSkin, DracoPayloadCarriesTheSkinSets) {
   const testing::Glb glb(written.glb);
   const json& prim = glb.doc["meshes"][0]["primitives"][0];
   const json& ids = prim["extensions"]["KHR_draco_mesh_compression"]["attributes"];
-  std::vector<uint8_t> payload = glb.view(prim["extensions"]["KHR_draco_mesh_compression"]["bufferView"]);
-  draco::DecoderBuffer buffer;
-  buffer.Init(reinterpret_cast<const char*>(payload.data()), payload.size());
-  draco::Decoder decoder;
-  auto decoded = decoder.DecodeMeshFromBuffer(&buffer);
-  ASSERT_TRUE(decoded.ok()) << decoded.status().error_msg();
-  const draco::Mesh& mesh = *decoded.value();
+  std::string error;
+  const auto decoded = testing::decode_draco_primitive(glb, prim, error);
+  ASSERT_TRUE(decoded) << error;
+  const draco::Mesh& mesh = *decoded;
   const draco::PointAttribute* position = mesh.GetAttributeByUniqueId(ids["POSITION"]);
   ASSERT_NE(position, nullptr);
   for (int n = 0; n < 2; ++n) {

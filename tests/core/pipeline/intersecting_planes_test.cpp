@@ -11,19 +11,6 @@ using namespace soupuv::testing;
 
 namespace {
 
-TriMesh grid(Vec3 origin, Vec3 u, Vec3 v, int n) {
-  TriMesh m;
-  for (int j = 0; j <= n; ++j)
-    for (int i = 0; i <= n; ++i) m.vertices.push_back(origin + u * (2.0 * i / n - 1) + v * (2.0 * j / n - 1));
-  for (int j = 0; j < n; ++j)
-    for (int i = 0; i < n; ++i) {
-      int a = j * (n + 1) + i;
-      m.faces.push_back({a, a + 1, a + n + 2});
-      m.faces.push_back({a, a + n + 2, a + n + 1});
-    }
-  return m;
-}
-
 // Largest ratio of UV edge length (at the map's scale) to 3D edge length
 // over the cut triangles: a torn triangle spans far across the atlas.
 double worst_cut_stretch(const Soup& soup, const MapResult& r, double uv_per_length) {
@@ -52,8 +39,8 @@ double worst_cut_stretch(const Soup& soup, const MapResult& r, double uv_per_len
 }  // namespace
 
 TEST(IntersectingPlanes, RefinementKeepsCutTrianglesOnOneSide) {
-  Soup a = shapes::to_soup(grid({0, 0, 0}, {1, 0, 0}, {0, 1, 0}, 8));
-  Soup b = shapes::to_soup(grid({0.037, 0, 0.041}, {0, 1, 0}, {0, 0, 1}, 8));
+  Soup a = shapes::to_soup(shapes::plane_grid({0, 0, 0}, {1, 0, 0}, {0, 1, 0}, 8));
+  Soup b = shapes::to_soup(shapes::plane_grid({0.037, 0, 0.041}, {0, 1, 0}, {0, 0, 1}, 8));
   Soup soup = shapes::merge(a, b);
   MapOptions o = fast_options();
   o.refine_intersections = false;
