@@ -19,6 +19,11 @@ atlas::AtlasOptions map_atlas_defaults() {
   o.relax_band = 0.6;
   // Measured choice: docs/tuning.md, "o.alternative_normal_deviations_deg".
   o.alternative_normal_deviations_deg = {75, 85, 60};
+  // The proxy atlas's layout is not the output's (the soup UV solve packs
+  // the soup's islands itself): the column packer alone lays the charts out,
+  // without the bitmap packer's turns and scale search, which were most of
+  // the atlas's time (docs/tuning.md, "The proxy atlas's packing").
+  o.pack_angles = 0;
   // Tried and not taken (session 6): docs/tuning.md, "Not taken".
   return o;
 }

@@ -41,17 +41,6 @@ geometry::Weld metric_weld(const Soup& soup, const MapOptions& options) {
   return geometry::weld_corners(soup, options.weld_tolerance * diag, options.weld_edge_fraction);
 }
 
-// The atlas options a run uses. The proxy atlas's layout is not the
-// output's (the soup UV solve packs the soup's islands itself): the column
-// packer alone lays the charts out, without the bitmap packer's turns and
-// scale search, which were most of the atlas's time (docs/tuning.md, "The
-// proxy atlas's packing").
-atlas::AtlasOptions atlas_for_run(const atlas::AtlasOptions& atlas) {
-  atlas::AtlasOptions a = atlas;
-  a.pack_angles = 0;
-  return a;
-}
-
 std::vector<geometry::AdjacentPair> metric_pairs(const Soup& soup, const MapOptions& options) {
   return options.original ? quality::metric_adjacency(soup, options.original, 0)
                           : geometry::edge_adjacency(metric_weld(soup, options), soup.triangles.size());
@@ -210,7 +199,7 @@ MapResult run_map(const Soup& soup, const MapOptions& options, Progress& progres
   pipeline::ProxyBranch pb;
   std::exception_ptr proxy_error;
   try {
-    pb = pipeline::run_proxy_branch(soup, options.proxy, atlas_for_run(options.atlas),
+    pb = pipeline::run_proxy_branch(soup, options.proxy, options.atlas,
                                     options.relax_max_soup_per_proxy_face, proxy_threads, proxy_progress);
   } catch (...) {
     proxy_error = std::current_exception();
