@@ -6,11 +6,16 @@
 #include <cstdint>
 #include <numeric>
 
+#include <omp.h>
+
 #include "atlas/chart_raster.h"
 #include "atlas/turn_chart.h"
 
 namespace soupuv::atlas {
 namespace {
+
+// Charts from which one chart's turns are searched in parallel.
+constexpr int kParallelTurnsMin = 64;
 
 // Occupancy of a strip of texels, per row as signed run lengths: run > 0
 // means that many free texels from here rightward, run < 0 that many
@@ -92,8 +97,7 @@ Spot first_fit(const RowRuns& occ, const RowMask& m, const std::vector<int>& nee
   int hint = 0;  // the mask row that blocked last: usually blocks again
   for (int y = 0; y <= y_limit; ++y) {
     bool wide_enough = true;
-    for (int i = 0; i < h; ++i) {
-      const int r = (hint + i) % h;
+    for (int i = 0, r = hint; i < h; ++i, r = r + 1 < h ? r + 1 : 0) {
       if (occ.widest(y + r) < need[r]) {
         wide_enough = false;
         if (occ.widest(y + r) < min_need) {
@@ -112,8 +116,7 @@ Spot first_fit(const RowRuns& occ, const RowMask& m, const std::vector<int>& nee
     int x = 0;
     while (x + w <= occ.width()) {
       int next = x;
-      for (int i = 0; i < h && next == x; ++i) {
-        const int r = (hint + i) % h;
+      for (int i = 0, r = hint; i < h && next == x; ++i, r = r + 1 < h ? r + 1 : 0) {
         for (int s = m.first[r]; s < m.first[r + 1]; ++s) {
           const int a = x + m.spans[s].a, len = m.spans[s].b - m.spans[s].a + 1;
           const int v = occ.run(a, y + r);
@@ -208,17 +211,28 @@ RasterPackResult raster_pack(std::vector<PackChart>& charts, int texture_size, d
     }
     occ.reset();
     int used = 0;
-    for (int i : order) {
-      // Every turn finds its own first fit, searched only below the best
-      // score so far (a turn must beat it strictly: ties go to the lower
-      // turn index). One thread: the searches are short and a parallel
-      // region per chart cost more than it saved (measured).
+    bool failed = false;
+    const int angles = options.angles;
+    // The turns of one chart are searched by all threads at once (turn k by
+    // thread k mod threads), each keeping its own best; the best of those is
+    // the same pick as one thread's: the least score, ties to the lower turn
+    // index. Few charts stay on one thread (a region's barriers per chart
+    // would cost more than their short searches).
+    const int team = n >= kParallelTurnsMin ? std::max(1, std::min(options.threads, angles)) : 1;
+    std::vector<Placed> best_of(team);
+    std::vector<double> score_of(team);
+#pragma omp parallel num_threads(team)
+    for (size_t o = 0; o < order.size() && !failed; ++o) {
+      const int i = order[o];
+      const int me = omp_get_thread_num(), threads = omp_get_num_threads();
+      // Each turn is searched only below the best score this thread has
+      // (a higher turn index must beat it strictly, so ties stay lower).
       int k_best = -1;
       double best_score = INFINITY;
       Spot best_spot;
-      for (int k = 0; k < options.angles; ++k) {
-        if (too_big[static_cast<size_t>(i) * options.angles + k]) continue;
-        const RowMask& m = masks[static_cast<size_t>(i) * options.angles + k];
+      for (int k = me; k < angles; k += threads) {
+        if (too_big[static_cast<size_t>(i) * angles + k]) continue;
+        const RowMask& m = masks[static_cast<size_t>(i) * angles + k];
         const double slack = best_score - height_weight * m.height;
         const int y_limit = std::isinf(best_score) ? occ.height() : static_cast<int>(std::ceil(slack)) - 1;
         if (y_limit < 0) continue;
@@ -231,18 +245,35 @@ RasterPackResult raster_pack(std::vector<PackChart>& charts, int texture_size, d
           k_best = k;
         }
       }
-      if (k_best < 0) return INT_MAX;
-      const RowMask& m = masks[static_cast<size_t>(i) * options.angles + k_best];
-      const Spot s = best_spot;
-      placed[i] = {k_best, s};
-      // Stored dilated by the padding: a later chart's own texels that miss
-      // these keep the padding from this one.
-      RowMask grown = dilate(m, pad);
-      for (int r = 0; r < grown.height; ++r)
-        for (int j = grown.first[r]; j < grown.first[r + 1]; ++j)
-          occ.fill(s.y - pad + r, s.x - pad + grown.spans[j].a, s.x - pad + grown.spans[j].b);
-      used = std::max(used, s.y + m.height);
+      best_of[me] = {k_best, best_spot};
+      score_of[me] = best_score;
+#pragma omp barrier
+#pragma omp single
+      {
+        int pick = -1;
+        for (int t = 0; t < threads; ++t) {
+          if (best_of[t].turn < 0) continue;
+          if (pick < 0 || score_of[t] < score_of[pick] ||
+              (score_of[t] == score_of[pick] && best_of[t].turn < best_of[pick].turn))
+            pick = t;
+        }
+        if (pick < 0) {
+          failed = true;
+        } else {
+          const RowMask& m = masks[static_cast<size_t>(i) * angles + best_of[pick].turn];
+          const Spot s = best_of[pick].at;
+          placed[i] = best_of[pick];
+          // Stored dilated by the padding: a later chart's own texels that
+          // miss these keep the padding from this one.
+          RowMask grown = dilate(m, pad);
+          for (int r = 0; r < grown.height; ++r)
+            for (int j = grown.first[r]; j < grown.first[r + 1]; ++j)
+              occ.fill(s.y - pad + r, s.x - pad + grown.spans[j].a, s.x - pad + grown.spans[j].b);
+          used = std::max(used, s.y + m.height);
+        }
+      }
     }
+    if (failed) return INT_MAX;
     return used;
   };
 
