@@ -6,6 +6,7 @@
 #include <unordered_map>
 
 #include "geometry/corner_grid.h"
+#include "geometry/shared_triangle.h"
 #include "soupuv/union_find.h"
 
 namespace soupuv::geometry {
@@ -24,7 +25,7 @@ Weld weld_corners_from(const Soup& soup, double tolerance, double edge_fraction,
   Box3 box = bounding_box(soup);
   // A tolerance far below the coordinates' resolution means "exact": bucket by
   // bits then, so a 0 tolerance does not make an infinitely fine grid.
-  double cell = tolerance;
+  double cell = tolerance / 2;  // corner_grid.h: half the reach
   double floor_cell = box.diagonal() * 1e-9;
   bool exact = !(cell > floor_cell);
   if (exact) cell = std::max(floor_cell, 1e-300);
@@ -43,7 +44,7 @@ Weld weld_corners_from(const Soup& soup, double tolerance, double edge_fraction,
       cap2[t] = edge_fraction * edge_fraction * e;
     }
   }
-  const CornerGrid grid(soup, box, cell);
+  const CornerGrid grid(soup, box, cell, exact ? 0.0 : tolerance);
   const double tol2 = tolerance * tolerance;
   struct Candidate {
     double d2;
@@ -52,9 +53,8 @@ Weld weld_corners_from(const Soup& soup, double tolerance, double edge_fraction,
   std::vector<Candidate> candidates;
   for (size_t c = 0; c < corners; ++c) {
     const Vec3 p = pos(c);
-    grid.for_each_near(p, [&](uint32_t o) {
+    grid.for_each_near(p, [&](uint32_t o, const Vec3& q) {
       if (o <= c) return;
-      const Vec3 q = pos(o);
       const double d2 = norm2(p - q);
       bool same = exact ? (p.x == q.x && p.y == q.y && p.z == q.z) : d2 <= tol2;
       if (same && !cap2.empty() && !exact) same = d2 <= std::min(cap2[c / 3], cap2[o / 3]);
@@ -66,7 +66,9 @@ Weld weld_corners_from(const Soup& soup, double tolerance, double edge_fraction,
   // vertex, so the greedy order welds twins and the constraint keeps
   // triangles from collapsing where the tolerance exceeds an edge.
   std::sort(candidates.begin(), candidates.end(),
-            [](const Candidate& x, const Candidate& y) { return x.d2 < y.d2; });
+            [](const Candidate& x, const Candidate& y) {
+              return x.d2 != y.d2 ? x.d2 < y.d2 : (x.a != y.a ? x.a < y.a : x.b < y.b);
+            });
   std::vector<std::vector<uint32_t>> members(corners);  // triangles per root
   for (size_t c = 0; c < corners; ++c) members[c] = {uint32_t(c / 3)};
   auto join = [&](uint32_t ra, uint32_t rb) {
@@ -84,15 +86,11 @@ Weld weld_corners_from(const Soup& soup, double tolerance, double edge_fraction,
       else if (uf.find(f) != uf.find(c)) join(uf.find(f), uf.find(c));
     }
   }
+  SharedTriangleTest share_a_triangle(soup.triangles.size());
   for (const Candidate& k : candidates) {
     uint32_t ra = uf.find(k.a), rb = uf.find(k.b);
     if (ra == rb) continue;
-    const auto& ma = members[ra];
-    const auto& mb = members[rb];
-    bool shared = false;
-    for (uint32_t t : ma)
-      for (uint32_t u : mb) shared |= t == u;
-    if (shared) continue;
+    if (share_a_triangle(members[ra], members[rb])) continue;
     join(ra, rb);
   }
 

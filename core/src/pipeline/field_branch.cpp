@@ -118,10 +118,11 @@ void retrace(const field::ChargeResult& charges, const std::vector<field::TraceS
 void trace_shared(const Soup& soup, const field::ChargeResult& charges,
                   const field::TraceOptions& trace_options, const FieldBranchOptions& options,
                   Progress& progress, FieldBranchResult& r) {
+  if (options.seed_edge_weld_tolerance > 0)
+    r.seed_edge_weld = geometry::weld_by_edges(soup, options.seed_edge_weld_tolerance, 1.0, false);
   const geometry::Weld weld =
-      options.seed_edge_weld_tolerance > 0
-          ? geometry::extend_weld(soup, geometry::weld_by_edges(soup, options.seed_edge_weld_tolerance, 1.0, false),
-                                 options.weld_tolerance,
+      r.seed_edge_weld
+          ? geometry::extend_weld(soup, *r.seed_edge_weld, options.weld_tolerance,
                                  options.seed_edge_fraction > 0 ? options.seed_edge_fraction
                                                                 : options.weld_edge_fraction)
           : geometry::weld_corners(soup, options.weld_tolerance, options.weld_edge_fraction);

@@ -6,12 +6,14 @@
 //         whatever the refinement added) and the branch's diagnostics.
 #pragma once
 
+#include <optional>
 #include <string>
 
 #include <nlohmann/json.hpp>
 
 #include "soupuv/cache/store.h"
 #include "soupuv/field/field.h"
+#include "soupuv/geometry/weld.h"
 #include "soupuv/progress.h"
 #include "soupuv/proxy/proxy.h"
 #include "soupuv/soup.h"
@@ -91,6 +93,11 @@ struct FieldBranchResult {
   double seconds_refine = 0, seconds_charge = 0, seconds_trace = 0;
   bool charges_cached = false, lines_cached = false;
   std::vector<std::string> warnings;
+  // The seeds' edge weld (geometry::weld_by_edges at
+  // seed_edge_weld_tolerance, consistent winding) when the lines were traced
+  // here, so that the UV stage's weld of the same recipe is not computed
+  // again (4 s of a 124k scan's map); empty when the lines came from the cache.
+  std::optional<geometry::Weld> seed_edge_weld;
 };
 
 FieldBranchResult run_field_branch(const Soup& soup, const std::string& soup_hash,

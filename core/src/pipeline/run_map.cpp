@@ -41,20 +41,30 @@ geometry::Weld metric_weld(const Soup& soup, const MapOptions& options) {
   return geometry::weld_corners(soup, options.weld_tolerance * diag, options.weld_edge_fraction);
 }
 
-std::vector<geometry::AdjacentPair> metric_pairs(const Soup& soup, const MapOptions& options) {
-  return options.original ? quality::metric_adjacency(soup, options.original, 0)
-                          : geometry::edge_adjacency(metric_weld(soup, options), soup.triangles.size());
+// The metric's weld and its neighbour pairs, computed once per map (the
+// weld alone took 5 s of a 124k scan's map, and it was computed twice).
+struct MetricWeld {
+  geometry::Weld weld;
+  std::vector<geometry::AdjacentPair> pairs;
+};
+
+MetricWeld metric_weld_and_pairs(const Soup& soup, const MapOptions& options) {
+  MetricWeld m;
+  m.weld = metric_weld(soup, options);
+  m.pairs = options.original ? quality::metric_adjacency(soup, options.original, 0)
+                             : geometry::edge_adjacency(m.weld, soup.triangles.size());
+  return m;
 }
 
 // uv.continuity_bound: what a low-distortion atlas can hardly beat (a cube:
 // 11/18); an estimate (continuity_bound.h says where it is exceeded).
 void add_continuity_bound(nlohmann::json& uv, const Soup& soup, const MapOptions& options,
-                          const std::vector<geometry::AdjacentPair>& adjacency,
+                          const geometry::Weld& weld, const std::vector<geometry::AdjacentPair>& adjacency,
                           std::vector<std::string>& warnings) {
   const Soup& shape = options.original ? *options.original : soup;
   if (shape.triangles.size() != soup.triangles.size()) return;
   const quality::ContinuityBound b =
-      quality::continuity_bound(shape, metric_weld(soup, options), adjacency);
+      quality::continuity_bound(shape, weld, adjacency);
   uv["continuity_bound"] = b.bound;
   uv["cone_vertices"] = b.cone_vertices;
   if (b.bound < 0.95)
@@ -128,7 +138,7 @@ MapResult run_box(const Soup& soup, const MapOptions& options, Progress& progres
   std::vector<std::array<Vec2, 3>> uvs(soup.triangles.size());
   for (size_t c = 0; c < box.corner_uvs.size(); ++c) uvs[c / 3][c % 3] = box.corner_uvs[c];
   double metric_seconds = 0;
-  auto m = measure(soup, uvs, metric_pairs(soup, options), options, 0, metric_seconds);
+  auto m = measure(soup, uvs, metric_weld_and_pairs(soup, options).pairs, options, 0, metric_seconds);
   r.corner_uvs = std::move(box.corner_uvs);
   nlohmann::json& d = r.diagnostics;
   d["method"] = "box";
@@ -224,6 +234,9 @@ MapResult run_map(const Soup& soup, const MapOptions& options, Progress& progres
           ? pipeline::weld_recipe("edges-consistent", {options.edge_weld_tolerance * diag, 1.0})
           : pipeline::weld_recipe("corners", {options.weld_tolerance * diag, options.weld_edge_fraction}),
       [&] {
+        // The field branch's seeds used the same recipe: take theirs.
+        if (options.weld_by_edges && field.seed_edge_weld && fo.seed_edge_weld_tolerance == options.edge_weld_tolerance * diag)
+          return *field.seed_edge_weld;
         return options.weld_by_edges
                    ? geometry::weld_by_edges(soup, options.edge_weld_tolerance * diag, 1.0, false)
                    : geometry::weld_corners(soup, options.weld_tolerance * diag, options.weld_edge_fraction);
@@ -231,7 +244,8 @@ MapResult run_map(const Soup& soup, const MapOptions& options, Progress& progres
       weld_cached);
   std::vector<geometry::AdjacentPair> neighbours;
   if (options.chart_fix_neighbours) neighbours = geometry::edge_adjacency(weld, soup.triangles.size());
-  const auto adjacency = metric_pairs(soup, options);
+  const MetricWeld metric = metric_weld_and_pairs(soup, options);
+  const auto& adjacency = metric.pairs;
   const double seconds_weld = since(t_weld);
   const pipeline::UvStageWelds welds{&weld, options.chart_fix_neighbours ? &neighbours : nullptr};
   pipeline::UvStage uv = pipeline::run_uv_stage(soup, field, pb, options, welds, total_threads, progress);
@@ -313,7 +327,7 @@ MapResult run_map(const Soup& soup, const MapOptions& options, Progress& progres
   warnings.insert(warnings.end(), pb.proxy.warnings.begin(), pb.proxy.warnings.end());
   warnings.insert(warnings.end(), pb.atlas.stats.warnings.begin(), pb.atlas.stats.warnings.end());
   if (!pb.proxy.ok()) warnings.push_back("the proxy failed a check (see proxy.*)");
-  add_continuity_bound(d["uv"], soup, options, adjacency, warnings);
+  add_continuity_bound(d["uv"], soup, options, metric.weld, adjacency, warnings);
   d["warnings"] = warnings;
   d["stages"]["report"] = {{"seconds", since(t_report)}};
   d["seconds"] = since(t0);
