@@ -5,6 +5,8 @@
 #include <numeric>
 #include <unordered_map>
 
+#include <omp.h>
+
 #include "geometry/corner_grid.h"
 #include "geometry/shared_triangle.h"
 #include "soupuv/union_find.h"
@@ -50,16 +52,29 @@ Weld weld_corners_from(const Soup& soup, double tolerance, double edge_fraction,
     double d2;
     uint32_t a, b;
   };
+  // The pairs within the tolerance, found by the threads over contiguous
+  // ranges of corners (the order below is total, so the split cannot show).
+  const int threads = std::max(1, omp_get_max_threads());
+  std::vector<std::vector<Candidate>> found(threads);
+#pragma omp parallel num_threads(threads)
+  {
+    const int me = omp_get_thread_num(), of = omp_get_num_threads();
+    const size_t c0 = corners * me / of, c1 = corners * (me + 1) / of;
+    for (size_t c = c0; c < c1; ++c) {
+      const Vec3 p = pos(c);
+      grid.for_each_near(p, [&](uint32_t o, const Vec3& q) {
+        if (o <= c) return;
+        const double d2 = norm2(p - q);
+        bool same = exact ? (p.x == q.x && p.y == q.y && p.z == q.z) : d2 <= tol2;
+        if (same && !cap2.empty() && !exact) same = d2 <= std::min(cap2[c / 3], cap2[o / 3]);
+        if (same) found[me].push_back({d2, uint32_t(c), o});
+      });
+    }
+  }
   std::vector<Candidate> candidates;
-  for (size_t c = 0; c < corners; ++c) {
-    const Vec3 p = pos(c);
-    grid.for_each_near(p, [&](uint32_t o, const Vec3& q) {
-      if (o <= c) return;
-      const double d2 = norm2(p - q);
-      bool same = exact ? (p.x == q.x && p.y == q.y && p.z == q.z) : d2 <= tol2;
-      if (same && !cap2.empty() && !exact) same = d2 <= std::min(cap2[c / 3], cap2[o / 3]);
-      if (same) candidates.push_back({d2, uint32_t(c), o});
-    });
+  for (auto& f : found) {
+    candidates.insert(candidates.end(), f.begin(), f.end());
+    f = {};
   }
   // Nearest pairs first, and never two corners of one triangle (even through
   // a chain of welds): a noisy copy is closer to its twins than to the next
