@@ -139,6 +139,13 @@ void solve_krylov(const SourceGeometry& src, const ChargeOptions& o, Progress& p
     ++r.full_matvecs;
     ++total;
     for (size_t t = 0; t < n; ++t) res[t] = 1.0 - ax[t];
+    if (d.stalled) {
+      // A further outer step restarts the same stalled iteration.
+      r.warnings.push_back("krylov: GMRES stalled (a restart cycle of " + std::to_string(go.restart) +
+                           " vectors reduced the residual by less than " +
+                           std::to_string(int(std::round(100 * (1 - go.stall_ratio)))) + " %)");
+      break;
+    }
   }
   r.iterations = total;
   r.charges = std::move(x);

@@ -115,6 +115,10 @@ GmresResult gmres(const LinearMap& A, const LinearMap& Minv, const std::vector<d
     for (size_t t = 0; t < n; ++t) out.x[t] += z[t];
     if (stop || out.estimate <= o.rtol || out.iterations >= o.max_iterations) break;
     if (o.max_norm_target > 0 && out.max_norm >= 0 && out.max_norm <= o.max_norm_target) break;
+    if (k == o.restart && out.estimate > o.stall_ratio * (beta / bnorm)) {
+      out.stalled = true;
+      break;
+    }
     // Restart from the true residual of this operator (one extra mat-vec).
     A(out.x, ax);
     ++out.iterations;

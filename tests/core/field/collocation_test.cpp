@@ -55,6 +55,32 @@ TEST(Gmres, MatchesDenseLuWithRestartsAndPreconditioner) {
   EXPECT_GT(r.estimate, 1e-12);
 }
 
+// GMRES(m) on the cyclic shift makes no progress until m reaches n (the
+// Krylov space of e1 holds e1..e_m, none of which reduces the residual):
+// the stall rule stops after one cycle and says so; without it the solve
+// spends every iteration it is given.
+TEST(Gmres, StopsWhenARestartCycleStalls) {
+  const int n = 50;
+  LinearMap shift = [&](const std::vector<double>& v, std::vector<double>& out) {
+    out.resize(n);
+    for (int i = 0; i < n; ++i) out[(i + 1) % n] = v[i];
+  };
+  LinearMap identity = [](const std::vector<double>& v, std::vector<double>& out) { out = v; };
+  std::vector<double> b(n, 0.0);
+  b[0] = 1;
+  GmresOptions o;
+  o.rtol = 1e-8;
+  o.restart = 10;
+  o.max_iterations = 200;
+  const GmresResult stalled = gmres(shift, identity, b, o);
+  EXPECT_TRUE(stalled.stalled);
+  EXPECT_LE(stalled.iterations, o.restart + 1);
+  o.stall_ratio = 1;
+  const GmresResult spent = gmres(shift, identity, b, o);
+  EXPECT_FALSE(spent.stalled);
+  EXPECT_GE(spent.iterations, o.max_iterations);
+}
+
 TEST(Gmres, StopsOnTheMaxNormOfTheTrueResidual) {
   // The max-norm residual GMRES forms from the Arnoldi relation (no
   // mat-vec) must be the true one: after the stop, max |b - A x| by a dense
