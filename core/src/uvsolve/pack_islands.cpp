@@ -12,8 +12,9 @@ namespace soupuv::uvsolve::detail {
 namespace {
 
 // Islands the bitmap packer places one by one when there are many; the
-// rest go in rows first (docs/tuning.md: 512 against 128 and 1,024).
-constexpr size_t kPackedAlone = 512;
+// rest go in rows first (docs/tuning.md: 2,048 against 512 and 1,024,
+// measured with the packer's turns on both threads).
+constexpr size_t kPackedAlone = 2048;
 
 // What the bitmap packer moves as one piece: one island, or a row-packed
 // group of small ones (local vertices, triangles, boundary edges).
@@ -82,7 +83,7 @@ PackFigures pack_islands(const UvLayout& L, int texture_size, double padding_px,
   // kept between grouped islands, in UV units, holds the padding at least.
   const double max_scale = total_area > 0 ? texture_size / std::sqrt(total_area) : 1;
   const double gap = (std::ceil(padding_px) + 1) / max_scale;
-  // When there are many islands, all but the 512 largest (each costs the
+  // When there are many islands, all but the kPackedAlone largest (each costs the
   // packer a rasterisation per turn and a search per packing, whatever its
   // size) are grouped into rows about 1/8 of the square's side wide before
   // packing; an island longer than half a row stays alone.
@@ -162,15 +163,17 @@ PackFigures pack_islands(const UvLayout& L, int texture_size, double padding_px,
   for (size_t u = 0; u < units.size(); ++u) charts[u] = {&units[u].uv, &units[u].tris, nullptr, &units[u].boundary};
   atlas::RasterPackOptions ro;
   ro.threads = threads;
-  // Many units: eight turns, the scale search stopping within 1 %, one
-  // packing per further variant (each packing rasterises every unit in
-  // every turn). Few units keep the packer's full effort, which costs
-  // little there and holds utilisation on few-island maps (docs/tuning.md).
+  // Many units: eight turns, the scale search stopping within 1 % after at
+  // most four packings, no further greedy variant (each packing rasterises
+  // every unit in every turn; the time goes to packing more islands alone
+  // instead, which gains more). Few units keep the packer's full effort,
+  // which costs little there and holds utilisation on few-island maps
+  // (docs/tuning.md).
   if (units.size() > 200) {
     ro.angles = 8;
     ro.precision = 1.01;
-    ro.max_packings = 6;
-    ro.variant_packings = 1;
+    ro.max_packings = 4;
+    ro.variant_packings = 0;
   }
   const atlas::RasterPackResult r = atlas::raster_pack(charts, texture_size, padding_px, 0, ro);
   if (!(r.scale > 0))
