@@ -18,8 +18,9 @@
 //         neighbour pairs) and the repair then untangles a patch that was
 //         never a surface. An edge needs both ends to agree, so a wrong
 //         partner must be close at both ends, which is much rarer.
-// Cost  : O(n) expected (uniform hash grid of cell size = tolerance), plus
-//         sorting the candidate pairs.
+// Cost  : O(n) expected (uniform hash grid, corner_grid.h), plus sorting the
+//         candidate pairs; the two passes over the candidates run on the
+//         OpenMP threads.
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -60,18 +61,18 @@ Weld weld_by_edges(const Soup& soup, double tolerance, double ambiguity_ratio, b
   const double cell = std::max({tolerance / 2, span / double(1 << 20), box.diagonal() * 1e-9, 1e-300});
   const CornerGrid grid(soup, box, cell, tolerance);
 
-  // A neighbour across an edge lies on its far side; a triangle on the same
-  // side and nearly parallel overlaps ours: it is the next row of a strip
-  // finer than the noise (a teapot's rim), not a neighbour. (A true fold
-  // sharper than ~37 degrees would be refused too; meshes rarely have one.)
   // Each triangle's normal (unnormalised) and its length, computed once:
-  // on a noisy 124k scan this test ran ~50 million times.
+  // on a noisy 124k scan the test below ran ~50 million times.
   std::vector<Vec3> normal(soup.triangles.size());
   std::vector<double> normal_length(soup.triangles.size());
   for (size_t t = 0; t < soup.triangles.size(); ++t) {
     normal[t] = cross(soup.corner(t, 1) - soup.corner(t, 0), soup.corner(t, 2) - soup.corner(t, 0));
     normal_length[t] = norm(normal[t]);
   }
+  // A neighbour across an edge lies on its far side; a triangle on the same
+  // side and nearly parallel overlaps ours: it is the next row of a strip
+  // finer than the noise (a teapot's rim), not a neighbour. (A true fold
+  // sharper than ~37 degrees would be refused too; meshes rarely have one.)
   auto overlaps = [&](uint32_t e, uint32_t f) {
     const uint32_t t = e / 3, u = f / 3;
     const Vec3 p = pos(e), q = pos(next(e));

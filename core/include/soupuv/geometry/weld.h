@@ -7,7 +7,7 @@
 // Output: a vertex id per soup corner (triangle*3 + k) such that corners within
 //         the tolerance of each other (transitively) share an id, and the list
 //         of triangle pairs sharing an edge of welded vertices.
-// Cost  : O(n) expected with a uniform hash grid of cell size = tolerance.
+// Cost  : O(n) expected with a uniform hash grid (cells of half the tolerance).
 #pragma once
 
 #include <array>
