@@ -13,6 +13,7 @@
 #include "frozen_node.h"
 #include "harness.h"
 #include "pg_harness.h"
+#include "test_job.h"
 #include "soupuv/server/blob_store.h"
 #include "soupuv/server/files.h"
 #include "soupuv/server/metrics.h"
@@ -175,13 +176,7 @@ TEST(ClusterApi, LateWriterAfterALostLeaseDoesNotChangeTheDownload) {
   auto blobs = open_pg_blob_store(pool);
   const fs::path dir = fresh_dir("late-writer-a");
   std::ofstream(dir / "upload.glb") << "the input bytes\n";
-  Job job;
-  job.id = new_job_id();
-  job.created_at = now_seconds();
-  job.input_file = "input.glb";
-  job.content_type = "model/gltf-binary";
-  job.input_bytes = 16;
-  job.request_hash = "late-writer";
+  Job job = upload_job("late-writer", 16);
   blobs->put(job.id, "input.glb", dir / "upload.glb");
   ASSERT_EQ(store.submit(job, 10).admission, Admission::accepted);
 

@@ -8,6 +8,7 @@
 #include <fstream>
 
 #include "harness.h"
+#include "test_job.h"
 #include "soupuv/server/cache_prune.h"
 #include "soupuv/server/files.h"
 #include "soupuv/server/job_store.h"
@@ -19,15 +20,7 @@ using nlohmann::json;
 
 namespace {
 
-Job new_job(int i) {
-  Job j;
-  j.id = new_job_id();
-  j.created_at = now_seconds();
-  j.input_file = "input.glb";
-  j.content_type = "model/gltf-binary";
-  j.request_hash = "h" + std::to_string(i);
-  return j;
-}
+Job new_job(int i) { return soupuv::test::upload_job("h" + std::to_string(i), 0); }
 
 // Everything to_json shows, so "same JSON" means "a client cannot tell".
 void expect_same(const std::optional<Job>& a, const std::optional<Job>& b) {

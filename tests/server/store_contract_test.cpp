@@ -15,6 +15,7 @@
 
 #include "harness.h"
 #include "pg_harness.h"
+#include "test_job.h"
 #include "soupuv/server/blob_store.h"
 #include "soupuv/server/files.h"
 #include "soupuv/server/pg_job_store.h"
@@ -83,13 +84,7 @@ Backend open_backend(const std::string& kind) {
 }
 
 Job new_job(const std::string& hash, const std::string& key = "", const std::string& tenant = "") {
-  Job j;
-  j.id = new_job_id();
-  j.created_at = now_seconds();
-  j.input_file = "input.glb";
-  j.content_type = "model/gltf-binary";
-  j.input_bytes = 1234;
-  j.request_hash = hash;
+  Job j = soupuv::test::upload_job(hash, 1234);
   j.idempotency_key = key;
   j.tenant = tenant;
   return j;
