@@ -241,75 +241,144 @@ class BatchField {
 
 }  // namespace
 
-FieldLines trace_field_lines(const ChargeResult& charges, const std::vector<TraceSeed>& seeds,
-                             const TraceOptions& options, Progress& progress, TraceStats* stats) {
-  auto t0 = Clock::now();
-  if (charges.charges.size() != charges.triangles.size())
-    throw Error(ErrorCode::invalid_input, "trace: charges do not match the source triangles");
-  // A step of at least the nearest triangle's distance could reach it.
-  if (!(options.near_step_fraction > 0 && options.near_step_fraction < 1))
-    throw Error(ErrorCode::invalid_input, "trace: near_step_fraction must lie in (0, 1)");
-  if (!(options.max_step_growth == 0 || (options.max_step_growth >= 1 && options.max_step_growth <= 1e3)))
-    throw Error(ErrorCode::invalid_input, "trace: max_step_growth must be 0 or lie in [1, 1000]");
-  if (seeds.size() >= (size_t{1} << 32))
-    throw Error(ErrorCode::limit_exceeded, "trace: too many seeds");
-  SourceGeometry src = make_sources(charges.positions, charges.triangles, charges.quadrature_degree);
-  Box3 box;
-  double edge_sum = 0;
-  for (size_t j = 0; j < src.size(); ++j) {
-    box.add(src.a[j]); box.add(src.b[j]); box.add(src.c[j]);
-    edge_sum += norm(src.b[j] - src.a[j]) + norm(src.c[j] - src.b[j]) + norm(src.a[j] - src.c[j]);
+struct FieldLineTracer::Impl {
+  Impl(const ChargeResult& charges, const TraceOptions& o)
+      : options(o), t0(Clock::now()), src(sources_of(charges, o)) {
+    Box3 box;
+    double edge_sum = 0;
+    for (size_t j = 0; j < src.size(); ++j) {
+      box.add(src.a[j]); box.add(src.b[j]); box.add(src.c[j]);
+      edge_sum += norm(src.b[j] - src.a[j]) + norm(src.c[j] - src.b[j]) + norm(src.a[j] - src.c[j]);
+    }
+    center = box.center();
+    const double diag = box.diagonal();
+    step = o.step > 0 ? o.step : 0.02 * diag;
+    eps = o.start_offset > 0 ? o.start_offset : 1e-3 * edge_sum / (3.0 * src.size());
+    stop_radius = o.stop_radius > 0 ? o.stop_radius : diag;  // twice the half diagonal
+    stalled_field = 1e-9 / (diag * diag);  // total charge is 1
+    nth = o.threads > 0 ? o.threads : omp_get_max_threads();
+    Box3 region;
+    region.add(center - Vec3{stop_radius, stop_radius, stop_radius});
+    region.add(center + Vec3{stop_radius, stop_radius, stop_radius});
+    field = std::make_unique<BatchField>(src, charges.charges, o, region, nth);
+    build_seconds = std::chrono::duration<double>(Clock::now() - t0).count();
   }
-  const Vec3 center = box.center();
-  const double diag = box.diagonal();
-  const double step = options.step > 0 ? options.step : 0.02 * diag;
-  const double eps = options.start_offset > 0 ? options.start_offset : 1e-3 * edge_sum / (3.0 * src.size());
-  const double stop_radius = options.stop_radius > 0 ? options.stop_radius : diag;  // twice the half diagonal
-  const double stalled_field = 1e-9 / (diag * diag);  // total charge is 1
-  const int nth = options.threads > 0 ? options.threads : omp_get_max_threads();
-  const bool midpoint = options.integrator == TraceOptions::Integrator::midpoint;
 
-  Box3 region;
-  region.add(center - Vec3{stop_radius, stop_radius, stop_radius});
-  region.add(center + Vec3{stop_radius, stop_radius, stop_radius});
-  BatchField field(src, charges.charges, options, region, nth);
-  const double build_seconds = std::chrono::duration<double>(Clock::now() - t0).count();
-  progress.update("trace", 0.05);
-
-  const long n = static_cast<long>(seeds.size());
-  size_t evaluations = 0, steps_total = 0;
-  std::vector<Vec3> nrm(n);
-  for (long s = 0; s < n; ++s) {
-    Vec3 v = normalized(seeds[s].normal);
-    if (norm2(v) == 0) v = normalized(seeds[s].position - center);
-    if (norm2(v) == 0) v = {0, 0, 1};
-    nrm[s] = v;
+  // Validates the charges and options; the charged triangles as sources.
+  static SourceGeometry sources_of(const ChargeResult& charges, const TraceOptions& o) {
+    if (charges.charges.size() != charges.triangles.size())
+      throw Error(ErrorCode::invalid_input, "trace: charges do not match the source triangles");
+    // A step of at least the nearest triangle's distance could reach it.
+    if (!(o.near_step_fraction > 0 && o.near_step_fraction < 1))
+      throw Error(ErrorCode::invalid_input, "trace: near_step_fraction must lie in (0, 1)");
+    if (!(o.max_step_growth == 0 || (o.max_step_growth >= 1 && o.max_step_growth <= 1e3)))
+      throw Error(ErrorCode::invalid_input, "trace: max_step_growth must be 0 or lie in [1, 1000]");
+    return make_sources(charges.positions, charges.triangles, charges.quadrature_degree);
   }
+
+  // Unit normals of the seeds (a zero normal: away from the centre).
+  std::vector<Vec3> unit_normals(const std::vector<TraceSeed>& seeds) const {
+    std::vector<Vec3> nrm(seeds.size());
+    for (size_t s = 0; s < seeds.size(); ++s) {
+      Vec3 v = normalized(seeds[s].normal);
+      if (norm2(v) == 0) v = normalized(seeds[s].position - center);
+      if (norm2(v) == 0) v = {0, 0, 1};
+      nrm[s] = v;
+    }
+    return nrm;
+  }
+
   // Side choice: probe both sides of every side-0 seed in one batch. The
   // probe moves slightly towards the seed's interior point (see TraceSeed).
-  std::vector<int> side(n);
-  std::vector<long> probe;
-  for (long s = 0; s < n; ++s) {
-    side[s] = seeds[s].side;
-    if (side[s] == 0) probe.push_back(s);
-  }
-  std::vector<Vec3> X, E, Ep;
-  std::vector<int> leaf, leaf_p;
-  if (!probe.empty()) {
-    const size_t np = probe.size();
-    X.resize(2 * np);
+  std::vector<int> probe(const std::vector<TraceSeed>& seeds, const std::vector<Vec3>& nrm) {
+    const long n = static_cast<long>(seeds.size());
+    std::vector<int> side(n);
+    std::vector<long> probed;
+    for (long s = 0; s < n; ++s) {
+      side[s] = seeds[s].side;
+      if (side[s] == 0) probed.push_back(s);
+    }
+    if (probed.empty()) return side;
+    const size_t np = probed.size();
+    std::vector<Vec3> X(2 * np), E;
     for (size_t k = 0; k < np; ++k) {
-      const TraceSeed& seed = seeds[probe[k]];
+      const TraceSeed& seed = seeds[probed[k]];
       Vec3 base = seed.position;
       if (seed.has_interior) base = base + 0.05 * (seed.interior - seed.position);
-      X[k] = base + eps * nrm[probe[k]];
-      X[np + k] = base - eps * nrm[probe[k]];
+      X[k] = base + eps * nrm[probed[k]];
+      X[np + k] = base - eps * nrm[probed[k]];
     }
-    leaf.assign(X.size(), -1);
-    field.evaluate(X, leaf, E, nullptr);
+    std::vector<int> leaf(X.size(), -1);
+    field->evaluate(X, leaf, E, nullptr);
     evaluations += X.size();
-    for (size_t k = 0; k < np; ++k) side[probe[k]] = norm2(E[k]) >= norm2(E[np + k]) ? 1 : -1;
+    for (size_t k = 0; k < np; ++k) side[probed[k]] = norm2(E[k]) >= norm2(E[np + k]) ? 1 : -1;
+    return side;
   }
+
+  FieldLines trace(const std::vector<TraceSeed>& seeds, Progress& progress);
+
+  const TraceOptions options;
+  const Clock::time_point t0;
+  const SourceGeometry src;
+  Vec3 center;
+  double step = 0, eps = 0, stop_radius = 0, stalled_field = 0, build_seconds = 0;
+  int nth = 1;
+  std::unique_ptr<BatchField> field;
+  // Totals over every probe and trace (TraceStats).
+  size_t evaluations = 0, steps_total = 0, grown_steps = 0, grown_redone = 0;
+  size_t escaped = 0, step_limit = 0, stalled = 0, trapped = 0;
+};
+
+FieldLineTracer::FieldLineTracer(const ChargeResult& charges, const TraceOptions& options)
+    : impl_(std::make_unique<Impl>(charges, options)) {}
+
+FieldLineTracer::~FieldLineTracer() = default;
+
+std::vector<int> FieldLineTracer::probe_sides(const std::vector<TraceSeed>& seeds) {
+  return impl_->probe(seeds, impl_->unit_normals(seeds));
+}
+
+FieldLines FieldLineTracer::trace(const std::vector<TraceSeed>& seeds, Progress& progress) {
+  return impl_->trace(seeds, progress);
+}
+
+TraceStats FieldLineTracer::stats() const {
+  const Impl& m = *impl_;
+  TraceStats st;
+  st.seconds = std::chrono::duration<double>(Clock::now() - m.t0).count();
+  st.build_seconds = m.build_seconds;
+  st.evaluations = m.evaluations;
+  st.steps = m.steps_total;
+  st.expansions = m.field->expansions();
+  st.m2l_operations = m.field->m2l_operations();
+  st.grown_steps = m.grown_steps;
+  st.grown_steps_redone = m.grown_redone;
+  st.escaped = m.escaped;
+  st.step_limit = m.step_limit;
+  st.stalled = m.stalled;
+  st.trapped = m.trapped;
+  return st;
+}
+
+FieldLines trace_field_lines(const ChargeResult& charges, const std::vector<TraceSeed>& seeds,
+                             const TraceOptions& options, Progress& progress, TraceStats* stats) {
+  FieldLineTracer tracer(charges, options);
+  progress.update("trace", 0.05);
+  FieldLines lines = tracer.trace(seeds, progress);
+  if (stats) *stats = tracer.stats();
+  return lines;
+}
+
+FieldLines FieldLineTracer::Impl::trace(const std::vector<TraceSeed>& seeds, Progress& progress) {
+  if (seeds.size() >= (size_t{1} << 32))
+    throw Error(ErrorCode::limit_exceeded, "trace: too many seeds");
+  const bool midpoint = options.integrator == TraceOptions::Integrator::midpoint;
+  BatchField& field = *this->field;
+  const long n = static_cast<long>(seeds.size());
+  const std::vector<Vec3> nrm = unit_normals(seeds);
+  const std::vector<int> side = probe(seeds, nrm);
+  std::vector<Vec3> X, E, Ep;
+  std::vector<int> leaf, leaf_p;
 
   std::vector<std::vector<Vec3>> lines(n);
   std::vector<LineEnd> ends(n, LineEnd::step_limit);
@@ -361,7 +430,6 @@ FieldLines trace_field_lines(const ChargeResult& charges, const std::vector<Trac
   // back to (the distance rule's bound), 0 for steps that need no check.
   std::vector<double> safe_h;
   std::vector<long> redo;
-  size_t grown_steps = 0, grown_redone = 0;
   for (int k = 0; k < options.max_steps && !active.empty(); ++k) {
     progress.update("trace", 0.05 + 0.9 * k / double(options.max_steps));
     const size_t na = active.size();
@@ -507,22 +575,11 @@ FieldLines trace_field_lines(const ChargeResult& charges, const std::vector<Trac
     out.corner.push_back(seeds[s].corner);
   }
   out.ends = std::move(ends);
-  if (stats) {
-    stats->seconds = std::chrono::duration<double>(Clock::now() - t0).count();
-    stats->build_seconds = build_seconds;
-    stats->evaluations = evaluations;
-    stats->steps = steps_total;
-    stats->expansions = field.expansions();
-    stats->m2l_operations = field.m2l_operations();
-    stats->grown_steps = grown_steps;
-    stats->grown_steps_redone = grown_redone;
-    stats->escaped = stats->step_limit = stats->stalled = stats->trapped = 0;
-    for (LineEnd e : out.ends) {
-      if (e == LineEnd::escaped) ++stats->escaped;
-      else if (e == LineEnd::step_limit) ++stats->step_limit;
-      else if (e == LineEnd::stalled) ++stats->stalled;
-      else ++stats->trapped;
-    }
+  for (LineEnd e : out.ends) {
+    if (e == LineEnd::escaped) ++escaped;
+    else if (e == LineEnd::step_limit) ++step_limit;
+    else if (e == LineEnd::stalled) ++stalled;
+    else ++trapped;
   }
   progress.update("trace", 1.0);
   return out;

@@ -55,12 +55,10 @@ SharedSeeds shared_seeds(const Soup& soup, const geometry::Weld& weld,
   return s;
 }
 
-int shared_line_side(const field::TraceSeed& seed, const field::FieldLines& lines, size_t l) {
-  for (uint32_t j = lines.offsets[l]; j < lines.offsets[l + 1]; ++j) {
-    double d = dot(lines.points[j] - seed.position, seed.normal);
-    if (d != 0) return d > 0 ? 1 : -1;
-  }
-  return 0;
+int probed_line_side(const field::TraceSeed& seed, int probed) {
+  // The line starts at position + probed * eps * normal: its first point off
+  // the start lies on the probed side, unless the normal is zero.
+  return norm2(seed.normal) > 0 ? probed : 0;
 }
 
 }  // namespace soupuv::pipeline

@@ -39,8 +39,9 @@ struct SharedSeeds {
 SharedSeeds shared_seeds(const Soup& soup, const geometry::Weld& weld,
                          const field::Orientation& orientation);
 
-// The side (+1 / -1 along seeds[g].normal) line l left on: the sign of
-// (p - start) . normal for its first point off the start's plane; 0 if none.
-int shared_line_side(const field::TraceSeed& seed, const field::FieldLines& lines, size_t l);
+// The side (+1 / -1 along seed.normal) a line traced from `seed` on its
+// probed side (field::FieldLineTracer::probe_sides) leaves on: `probed`,
+// or 0 when the seed has no normal (its side is then no vote).
+int probed_line_side(const field::TraceSeed& seed, int probed);
 
 }  // namespace soupuv::pipeline

@@ -14,6 +14,7 @@
 #pragma once
 
 #include <cstdint>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -267,5 +268,37 @@ struct TraceStats {
 FieldLines trace_field_lines(const ChargeResult& charges, const std::vector<TraceSeed>& seeds,
                              const TraceOptions& options, Progress& progress = Progress::none(),
                              TraceStats* stats = nullptr);
+
+// The tracer behind trace_field_lines, for callers that decide the sides
+// themselves between the probe and the trace: the FMM over the charged
+// sources is built once (constructor) and serves every call.
+//
+//   FieldLineTracer tracer(charges, options);
+//   std::vector<int> sides = tracer.probe_sides(seeds);  // +1 / -1 per seed
+//   ... change some seeds' side (e.g. one side per component) ...
+//   FieldLines lines = tracer.trace(seeds, progress);
+//
+// trace() probes the seeds whose side is 0 exactly as probe_sides does, so
+// a seed traced with its probed side gives the same line either way.
+// `charges` must outlive the tracer.
+class FieldLineTracer {
+ public:
+  FieldLineTracer(const ChargeResult& charges, const TraceOptions& options);
+  ~FieldLineTracer();
+  FieldLineTracer(const FieldLineTracer&) = delete;
+  FieldLineTracer& operator=(const FieldLineTracer&) = delete;
+
+  // Per seed: its side when not 0, else the side (+1 along its normal, -1
+  // against) where |E| is larger one start offset off the surface (two
+  // field evaluations per such seed, in one batch).
+  std::vector<int> probe_sides(const std::vector<TraceSeed>& seeds);
+  FieldLines trace(const std::vector<TraceSeed>& seeds, Progress& progress = Progress::none());
+  // Everything since construction: build, probes and traces.
+  TraceStats stats() const;
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
 
 }  // namespace soupuv::field
