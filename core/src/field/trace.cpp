@@ -110,12 +110,14 @@ void sort_by_high_word(std::vector<uint64_t>& keys, std::vector<uint64_t>& scrat
 }
 
 // Batches of fewer points run on one thread. A round of a few hundred lines
-// is ~1 ms of work, and in the pipeline the field branch shares the cores
-// with the proxy branch: every fork/join then waits for a descheduled or
-// spinning thread. Measured on a loaded 2-core machine, suzanne (2,904 corner
-// lines, 300k evaluations) took 7.3 s wall / 2.9 s CPU on one thread and
-// 21.7 s / 8.8 s on two, all rounds parallel.
-constexpr long kParallelMinPoints = 4096;
+// is ~1 ms of work, and when the field branch shares the cores with the
+// proxy branch every fork/join waits for a descheduled or spinning thread
+// (suzanne's corner lines with every round parallel: 3x the wall time on a
+// loaded machine). Rounds of a thousand points and more gain from the
+// second thread: the mid-size soups' traces (2,000-4,000 shared lines) ran
+// on one thread at the former bound of 4,096 (docs/tuning.md, "Time,
+// session 28").
+constexpr long kParallelMinPoints = 1024;
 
 // Field at a batch of points: E[i] (overwritten) and, when `nearest` is given,
 // the distance to the nearest near-rule triangle. `leaf` caches each point's
