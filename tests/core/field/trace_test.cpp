@@ -115,3 +115,56 @@ TEST(Trace, StopBoxEndsLinesWhereTheyLeaveIt) {
   FieldLines far = trace_field_lines(c, corner_seeds(soup), o);
   for (size_t i = 0; i < far.size(); ++i) EXPECT_GT(norm(far.points[far.offsets[i + 1] - 1]), 3.0);
 }
+
+// FieldLineTracer: the probe is the tracer's own side choice, so a caller
+// that probes, keeps or turns sides and then traces gets exactly the lines
+// trace_field_lines gives for the kept ones, and a turned seed leaves on the
+// other side.
+TEST(Trace, ProbedSidesAreTheTracersOwnChoice) {
+  // A sphere (one good side) beside an open sheet (both sides are good).
+  TriMesh sheet = shapes::plane_grid({1.5, -0.5, -0.5}, {0, 1, 0}, {0, 0, 1}, 4);
+  Soup soup = shapes::merge(shapes::to_soup(shapes::icosphere(0.5, 1)), shapes::to_soup(sheet));
+  ChargeResult c = charge(soup, 4);
+  TraceOptions o;
+  o.max_steps = 60;
+  o.step = 0.05;
+  std::vector<TraceSeed> seeds = corner_seeds(soup);
+  seeds[1].side = -1;  // a seed with its own side keeps it
+
+  FieldLineTracer tracer(c, o);
+  const std::vector<int> sides = tracer.probe_sides(seeds);
+  ASSERT_EQ(sides.size(), seeds.size());
+  EXPECT_EQ(sides[1], -1);
+  for (int s : sides) EXPECT_TRUE(s == 1 || s == -1);
+  const TraceStats probed = tracer.stats();
+  EXPECT_EQ(probed.evaluations, 2 * (seeds.size() - 1));  // both sides of every side-0 seed
+  EXPECT_EQ(probed.steps, 0u);
+
+  // Seeds given their probed side trace the lines of the side-0 seeds.
+  const FieldLines own = trace_field_lines(c, seeds, o);
+  std::vector<TraceSeed> chosen = seeds;
+  for (size_t i = 0; i < chosen.size(); ++i) chosen[i].side = sides[i];
+  // Turn every sheet seed: its line must leave on the other side.
+  const size_t sphere_corners = 3 * shapes::icosphere(0.5, 1).faces.size();
+  for (size_t i = sphere_corners; i < chosen.size(); ++i) chosen[i].side = -sides[i];
+  const FieldLines lines = tracer.trace(chosen);
+  ASSERT_EQ(lines.size(), own.size());
+  for (size_t i = 0; i < sphere_corners; ++i) {
+    ASSERT_EQ(lines.offsets[i + 1] - lines.offsets[i], own.offsets[i + 1] - own.offsets[i]) << "line " << i;
+    for (uint32_t j = 0; j < lines.offsets[i + 1] - lines.offsets[i]; ++j) {
+      const Vec3 a = lines.points[lines.offsets[i] + j], b = own.points[own.offsets[i] + j];
+      EXPECT_TRUE(a.x == b.x && a.y == b.y && a.z == b.z) << "line " << i << " point " << j;
+    }
+    EXPECT_EQ(lines.ends[i], own.ends[i]);
+  }
+  for (size_t i = sphere_corners; i < lines.size(); ++i) {
+    const Vec3 v = first(lines, i), x1 = lines.points[lines.offsets[i] + 1];
+    const Vec3 n = seeds[i].normal;
+    EXPECT_EQ(dot(x1 - v, n) > 0 ? 1 : -1, chosen[i].side) << "line " << i;
+    const Vec3 v_own = first(own, i), x1_own = own.points[own.offsets[i] + 1];
+    EXPECT_EQ(dot(x1_own - v_own, n) > 0 ? 1 : -1, sides[i]) << "line " << i;
+  }
+  // The tracer's figures cover the probe and the trace.
+  EXPECT_GT(tracer.stats().evaluations, probed.evaluations);
+  EXPECT_GT(tracer.stats().steps, 0u);
+}
