@@ -4,12 +4,34 @@
 #include <cmath>
 
 #include "atlas/parameterize.h"
+#include "soupuv/geometry/triangle_stretch.h"
 #include "transfer/slim.h"
 #include "uvsolve/overlap_split.h"
 
 namespace soupuv::uvsolve::detail {
 
 namespace {
+// Sander's L2 stretch of the piece's map against each soup triangle's own
+// shape (its rest triangle), as eval/uvmetrics.py measures a map: the
+// piece's vertices are means of joined noisy corners, and a sliver's mean
+// triangle can differ from the soup's far more than the map does.
+double rest_stretch_l2(const PieceMesh& m, const std::vector<Vec2>& uv) {
+  double sum_l2 = 0, a3 = 0, a2 = 0;
+  for (size_t j = 0; j < m.triangles.size(); ++j) {
+    const transfer::detail::RestTriangle& r = m.rest[j];
+    if (!r.valid) continue;
+    const auto& t = m.triangles[j];
+    const geometry::TriangleStretch s = geometry::triangle_stretch(
+        {Vec3{r.x[0].x, r.x[0].y, 0}, Vec3{r.x[1].x, r.x[1].y, 0}, Vec3{r.x[2].x, r.x[2].y, 0}},
+        {uv[t[0]], uv[t[1]], uv[t[2]]});
+    sum_l2 += s.l2_squared * s.area3d;
+    a3 += s.area3d;
+    a2 += std::max(0.0, s.area_uv);
+  }
+  if (a3 <= 0) return 1;
+  return std::sqrt(sum_l2 / a3) * std::sqrt(a2 / a3);
+}
+
 uint32_t find(std::vector<uint32_t>& parent, uint32_t x) {
   while (parent[x] != x) x = parent[x] = parent[parent[x]];
   return x;
@@ -167,7 +189,7 @@ Outcome flatten(const PieceMesh& m, const std::vector<uint32_t>& tris, double ce
     if (uv.empty() || !transfer::detail::slim_relax(m.triangles, m.rest, fixed, uv, so).started)
       return Outcome::flip;
   }
-  if (atlas::chart_stretch_l2(c, uv) > max_stretch) return Outcome::stretch;
+  if (rest_stretch_l2(m, uv) > max_stretch) return Outcome::stretch;
   std::vector<std::array<Vec2, 3>> corners(tris.size());
   double area = 0;
   for (size_t j = 0; j < tris.size(); ++j) {

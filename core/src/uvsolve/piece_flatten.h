@@ -18,9 +18,10 @@
 //         manifold of genus 0 with a boundary, LSCM (Lévy et al. 2002)
 //         turned to the soup's orientation and scaled to the rest area, then
 //         SLIM on the symmetric Dirichlet energy (from ARAP when LSCM folds
-//         a sliver); kept when no triangle flips, the L2 stretch is within
-//         the budget and at most kLapShare of its samples are covered
-//         twice. On `overlap` the flattened piece is returned too.
+//         a sliver); kept when no triangle flips, the L2 stretch against
+//         each soup triangle's own shape (as eval/uvmetrics.py measures)
+//         is within the budget and at most kLapShare of its samples are
+//         covered twice. On `overlap` the flattened piece is returned too.
 // Cost  : one sparse LSCM factorisation and SLIM's per piece.
 #pragma once
 
