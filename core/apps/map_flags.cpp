@@ -53,8 +53,12 @@ std::vector<MapFlag> make_table() {
           [](MapArgs& m, const std::string& v) { m.texture = v; }),
       // The writer checks that it is a power of two.
       val("--texture-size", "N", whole_number_in(64, 4096), kGeneral,
-          "size of the generated texture (UV check or re-bake), a power of two (default 1024)",
-          [](MapArgs& m, const std::string& v) { m.texture_size = whole(v); }),
+          "size of the generated texture (UV check or re-bake), a power of two (default 1024); the "
+          "field method packs its islands for it (their padding is in its texels)",
+          [](MapArgs& m, const std::string& v) {
+            m.texture_size = whole(v);
+            opt(m).uv_solve.texture_size = m.texture_size;
+          }),
       sw("--draco", kGeneral, "KHR_draco_mesh_compression output (lossless)",
          [](MapArgs& m) { m.draco = true; }),
       sw("--normals", kGeneral, "also write flat per-triangle NORMALs", [](MapArgs& m) { m.normals = true; }),
