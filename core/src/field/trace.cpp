@@ -113,11 +113,12 @@ void sort_by_high_word(std::vector<uint64_t>& keys, std::vector<uint64_t>& scrat
 // is ~1 ms of work, and when the field branch shares the cores with the
 // proxy branch every fork/join waits for a descheduled or spinning thread
 // (suzanne's corner lines with every round parallel: 3x the wall time on a
-// loaded machine). Rounds of a thousand points and more gain from the
+// loaded machine). Rounds of a few hundred points and more gain from the
 // second thread: the mid-size soups' traces (2,000-4,000 shared lines) ran
-// on one thread at the former bound of 4,096 (docs/tuning.md, "Time,
-// session 28").
-constexpr long kParallelMinPoints = 1024;
+// on one thread at the former bound of 4,096, and a large soup's last
+// rounds (its slowest lines) at 1,024 (docs/tuning.md, "Time and
+// flattening, session 28").
+constexpr long kParallelMinPoints = 512;
 
 // Field at a batch of points: E[i] (overwritten) and, when `nearest` is given,
 // the distance to the nearest near-rule triangle. `leaf` caches each point's
