@@ -28,6 +28,17 @@ SeamMergeFigures merge_seams(const Soup& soup, const std::vector<geometry::Adjac
   for (const auto& [k, n] : seam)
     if (n >= 2) order.push_back({n, k});
   std::stable_sort(order.begin(), order.end(), [](const auto& x, const auto& y) { return x.first > y.first; });
+  // Pairs by triangle (CSR): a seam's pairs are found from the smaller
+  // island's triangles. Scanning every pair per attempt was 2.6 s of ogre's
+  // UV solve (540k pairs).
+  const size_t n = L.corner_vertex.size();
+  std::vector<uint32_t> first(n + 1, 0), incident(2 * pairs.size());
+  for (const auto& p : pairs) ++first[p.a + 1], ++first[p.b + 1];
+  for (size_t t = 0; t < n; ++t) first[t + 1] += first[t];
+  {
+    std::vector<uint32_t> at(first.begin(), first.end() - 1);
+    for (uint32_t i = 0; i < pairs.size(); ++i) incident[at[pairs[i].a]++] = i, incident[at[pairs[i].b]++] = i;
+  }
 
   UnionFind merged(L.island_count);
   for (const auto& entry : order) {
@@ -37,16 +48,19 @@ SeamMergeFigures merge_seams(const Soup& soup, const std::vector<geometry::Adjac
     // B, the smaller, moves onto A.
     if (islands[B].size() > islands[A].size()) std::swap(A, B);
     // The shared corners: (vertex in A, vertex in B) for each seam pair.
+    // Each pair between A and B has exactly one triangle in B.
     std::vector<std::pair<uint32_t, uint32_t>> match;
-    for (const auto& p : pairs) {
-      const uint32_t ia = merged.find(L.island[p.a]), ib = merged.find(L.island[p.b]);
-      if (!((ia == A && ib == B) || (ia == B && ib == A))) continue;
-      for (int i = 0; i < 2; ++i) {
-        uint32_t va = L.corner_vertex[p.a][p.a_corner[i]], vb = L.corner_vertex[p.b][p.b_corner[i]];
-        if (ia == B) std::swap(va, vb);
-        match.push_back({va, vb});
+    for (const uint32_t t : islands[B])
+      for (uint32_t e = first[t]; e < first[t + 1]; ++e) {
+        const auto& p = pairs[incident[e]];
+        const uint32_t ia = merged.find(L.island[p.a]), ib = merged.find(L.island[p.b]);
+        if (!((ia == A && ib == B) || (ia == B && ib == A))) continue;
+        for (int i = 0; i < 2; ++i) {
+          uint32_t va = L.corner_vertex[p.a][p.a_corner[i]], vb = L.corner_vertex[p.b][p.b_corner[i]];
+          if (ia == B) std::swap(va, vb);
+          match.push_back({va, vb});
+        }
       }
-    }
     std::sort(match.begin(), match.end());
     match.erase(std::unique(match.begin(), match.end()), match.end());
     // A vertex of B matched to two different vertices of A (or the reverse)
