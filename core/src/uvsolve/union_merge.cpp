@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <numeric>
 
+#include "uvsolve/pairs_by_triangle.h"
 #include "uvsolve/piece_flatten.h"
 
 namespace soupuv::uvsolve::detail {
@@ -18,14 +19,7 @@ UnionMergeFigures merge_by_reflattening(const Soup& soup, double uv_per_length,
   UnionMergeFigures f;
   std::vector<std::vector<uint32_t>> members = island_triangles(L);
   const size_t n = L.corner_vertex.size();
-  // Pairs by triangle (CSR), to find a seam's pairs from its smaller side.
-  std::vector<uint32_t> first(n + 1, 0), list(2 * pairs.size());
-  for (const auto& p : pairs) ++first[p.a + 1], ++first[p.b + 1];
-  for (size_t t = 0; t < n; ++t) first[t + 1] += first[t];
-  {
-    std::vector<uint32_t> at(first.begin(), first.end() - 1);
-    for (uint32_t i = 0; i < pairs.size(); ++i) list[at[pairs[i].a]++] = i, list[at[pairs[i].b]++] = i;
-  }
+  const PairsByTriangle by_triangle(pairs, n);
   // Seams between islands, longest (most shared pairs) first.
   std::vector<std::pair<uint64_t, uint32_t>> seams;
   {
@@ -67,8 +61,8 @@ UnionMergeFigures merge_by_reflattening(const Soup& soup, double uv_per_length,
     // Close the seam: the smaller island's shared corners take the larger's vertices.
     touched.clear();
     for (uint32_t t : members[j])
-      for (uint32_t e = first[t]; e < first[t + 1]; ++e) {
-        const auto& p = pairs[list[e]];
+      for (uint32_t e = by_triangle.first[t]; e < by_triangle.first[t + 1]; ++e) {
+        const auto& p = pairs[by_triangle.index[e]];
         const bool t_is_a = p.a == t;
         const uint32_t o = t_is_a ? p.b : p.a;
         if (find(L.island[o]) != i) continue;
