@@ -86,7 +86,8 @@ Weld weld_by_edges(const Soup& soup, double tolerance, double ambiguity_ratio, b
   const double tol2 = tolerance * tolerance;
   // Every candidate pair (edge, other edge running back within the
   // tolerance at both ends) whose edge lies in [e0, e1), each listed once.
-  auto for_each_candidate = [&](uint32_t e0, uint32_t e1, auto&& f) {
+  // `admit(cost, edge, other)` may refuse a pair before its overlap test.
+  auto for_each_candidate = [&](uint32_t e0, uint32_t e1, auto&& admit, auto&& f) {
     for (uint32_t e = e0; e < e1; ++e) {
       const Vec3 p = pos(e), q = pos(next(e));
       grid.for_each_near(q, [&](uint32_t c, const Vec3& at) {  // c lies near q
@@ -99,15 +100,17 @@ Weld weld_by_edges(const Soup& soup, double tolerance, double ambiguity_ratio, b
         // prev(c) -> c (a flipped neighbour).
         if (e < c) {
           const double back = norm2(pos(next(c)) - p);
-          if (back <= tol2 && !overlaps(e, c)) f(EdgeMatch{dq + back, e, c, false});
+          if (back <= tol2 && admit(dq + back, e, c) && !overlaps(e, c)) f(EdgeMatch{dq + back, e, c, false});
         }
         if (flipped_neighbours && e < prev(c)) {
           const double forward = norm2(pos(prev(c)) - p);
-          if (forward <= tol2 && !overlaps(e, prev(c))) f(EdgeMatch{dq + forward, e, prev(c), true});
+          if (forward <= tol2 && admit(dq + forward, e, prev(c)) && !overlaps(e, prev(c)))
+            f(EdgeMatch{dq + forward, e, prev(c), true});
         }
       });
     }
   };
+  auto any = [](double, uint32_t, uint32_t) { return true; };
   // Both passes over the candidates split the edges over the threads, in
   // contiguous ranges (thread order is edge order).
   const int threads = std::max(1, omp_get_max_threads());
@@ -130,7 +133,7 @@ Weld weld_by_edges(const Soup& soup, double tolerance, double ambiguity_ratio, b
       if (cost < best[e]) { second[e] = best[e]; best[e] = cost; }
       else if (cost < second[e]) second[e] = cost;
     };
-    for_each_candidate(range(me, of), range(me + 1, of),
+    for_each_candidate(range(me, of), range(me + 1, of), any,
                        [&](const EdgeMatch& m) { note(m.edge, m.cost); note(m.other, m.cost); });
   }
   std::vector<double>& best = best_of[0];
@@ -145,8 +148,8 @@ Weld weld_by_edges(const Soup& soup, double tolerance, double ambiguity_ratio, b
     best_of[t] = {};
     second_of[t] = {};
   }
-  auto clear_winner = [&](const EdgeMatch& m) {
-    return ambiguity_ratio * m.cost <= second[m.edge] && ambiguity_ratio * m.cost <= second[m.other];
+  auto clear_winner = [&](double cost, uint32_t edge, uint32_t other) {
+    return ambiguity_ratio * cost <= second[edge] && ambiguity_ratio * cost <= second[other];
   };
   // Only a clear winner can ever be matched: keep just those (on a noisy
   // 124k scan the full list held tens of millions of pairs, and sorting it
@@ -156,9 +159,10 @@ Weld weld_by_edges(const Soup& soup, double tolerance, double ambiguity_ratio, b
 #pragma omp parallel num_threads(threads)
   {
     const int me = omp_get_thread_num(), of = omp_get_num_threads();
-    for_each_candidate(range(me, of), range(me + 1, of), [&](const EdgeMatch& m) {
-      if (clear_winner(m)) kept[me].push_back(m);
-    });
+    // The winner test first: it is cheaper than the overlap test and
+    // refuses most pairs.
+    for_each_candidate(range(me, of), range(me + 1, of), clear_winner,
+                       [&](const EdgeMatch& m) { kept[me].push_back(m); });
   }
   std::vector<EdgeMatch> candidates;
   for (auto& k : kept) candidates.insert(candidates.end(), k.begin(), k.end());
