@@ -118,8 +118,8 @@ void retrace(const field::ChargeResult& charges, const std::vector<field::TraceS
 // side.
 // Why probe first: a line's side is its probed side, so the vote is known
 // before any line is traced. Tracing first and then tracing again the lines
-// that left on the outvoted side (as before) traced those twice: 1,174 of
-// valve's 3,684 lines, 21,246 of ogre's 51,813 (docs/tuning.md).
+// that left on the outvoted side traced those twice, a third of the lines
+// and more on noisy soups (docs/tuning.md, session 28).
 void trace_shared(const Soup& soup, const field::ChargeResult& charges,
                   const field::TraceOptions& trace_options, const FieldBranchOptions& options,
                   Progress& progress, FieldBranchResult& r) {

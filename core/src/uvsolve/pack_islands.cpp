@@ -17,10 +17,10 @@ namespace {
 constexpr size_t kPackedAlone = 2048;
 
 // The raster the islands are packed on: the texture's, up to this many
-// texels a side. The packer's first-fit search grows with the raster's
-// texels (ogre, about 2,150 units: pack 2.1 s at 1024, 9.6 s at 2048, 84 s
-// at 4096); a coarser raster with the padding in its own texels, rounded up,
-// keeps every gap at least the texture's padding.
+// texels a side. The packer's first-fit search grows faster than the
+// raster's texels (40x from 1024 to 4096 on ogre, docs/tuning.md); a
+// coarser raster with the padding in its own texels, rounded up, keeps
+// every gap at least the texture's padding.
 constexpr int kMaxPackRaster = 2048;
 
 // What the bitmap packer moves as one piece: one island, or a row-packed

@@ -29,7 +29,8 @@ SeamMergeFigures merge_seams(const Soup& soup, const std::vector<geometry::Adjac
   for (const auto& [k, n] : seam)
     if (n >= 2) order.push_back({n, k});
   std::stable_sort(order.begin(), order.end(), [](const auto& x, const auto& y) { return x.first > y.first; });
-  // Scanning every pair per attempt was 2.6 s of ogre's UV solve (540k pairs).
+  // A seam's pairs come from the smaller island's triangles: scanning every
+  // welded pair per attempt cost O(attempts x pairs).
   const PairsByTriangle by_triangle(pairs, L.corner_vertex.size());
 
   UnionFind merged(L.island_count);
