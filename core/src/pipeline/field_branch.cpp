@@ -99,16 +99,12 @@ field::FieldLines merge_lines(const field::FieldLines& base, const field::FieldL
   return out;
 }
 
-// Traces `again` (seeds whose side changed) and puts their lines in place of
-// the old ones in `lines`; the tracing statistics add up in `trace_stats`.
-void retrace(const field::ChargeResult& charges, const std::vector<field::TraceSeed>& again,
-             const field::TraceOptions& trace_options, Progress& progress, nlohmann::json& trace_stats,
+// Traces `again` (seeds whose side changed) with the tracer that traced
+// `lines` (its FMM serves both) and puts their lines in place of the old ones.
+void retrace(field::FieldLineTracer& tracer, const std::vector<field::TraceSeed>& again, Progress& progress,
              field::FieldLines& lines) {
   if (again.empty()) return;
-  field::TraceStats more;
-  field::FieldLines fresh = field::trace_field_lines(charges, again, trace_options, progress, &more);
-  add_stats(trace_stats, more);
-  lines = merge_lines(lines, fresh);
+  lines = merge_lines(lines, tracer.trace(again, progress));
 }
 
 
@@ -194,9 +190,9 @@ void trace_per_corner(const Soup& soup, const field::ChargeResult& charges,
   std::vector<uint32_t> seed_of_corner(3 * soup.triangles.size(), UINT32_MAX);
   for (size_t i = 0; i < seeds.size(); ++i)
     if (seeds[i].corner < seed_of_corner.size()) seed_of_corner[seeds[i].corner] = uint32_t(i);
-  field::TraceStats stats;
-  field::FieldLines lines = field::trace_field_lines(charges, seeds, trace_options, progress, &stats);
-  add_stats(r.trace, stats);
+  field::FieldLineTracer tracer(charges, trace_options);
+  progress.update("trace", 0.05);
+  field::FieldLines lines = tracer.trace(seeds, progress);
   if (options.orient_sides) {
     auto adjacency = geometry::edge_adjacency(
         geometry::weld_corners(soup, options.weld_tolerance, options.weld_edge_fraction),
@@ -213,7 +209,7 @@ void trace_per_corner(const Soup& soup, const field::ChargeResult& charges,
         again.push_back(s);
       }
     }
-    retrace(charges, again, trace_options, progress, r.trace, lines);
+    retrace(tracer, again, progress, lines);
     r.orient = {{"components", orientation.components},
                 {"flipped_triangles", orientation.flipped_triangles},
                 {"conflicting_edges", orientation.conflicting_edges},
@@ -227,6 +223,7 @@ void trace_per_corner(const Soup& soup, const field::ChargeResult& charges,
                 {"mixed_side_triangles_before", mixed},
                 {"mixed_side_triangles_after", mixed}};
   }
+  add_stats(r.trace, tracer.stats());
   r.lines = std::move(lines);
 }
 
