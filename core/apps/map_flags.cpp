@@ -204,6 +204,10 @@ std::vector<MapFlag> make_table() {
           [](MapArgs& m, const std::string& v) { opt(m).uv_solve.untangle_iterations = whole(v); }),
       val("--uv-solve-iterations", "N", whole_number_in(0, 1000), kSolve, "SLIM iterations per island (10)",
           [](MapArgs& m, const std::string& v) { opt(m).uv_solve.solve_iterations = whole(v); }),
+      sw("--no-uv-attach", kSolve,
+         "keep every small island apart (by default an island whose padding would take more texels than it does is "
+         "attached rigidly to a neighbouring island where that folds, laps and stretches nothing)",
+         [](MapArgs& m) { opt(m).uv_solve.attach_small_islands = false; }),
       val("--uv-overlap-samples", "F", number_in(0.25, 8), kSolve, "overlap samples per texel side (2)",
           [](MapArgs& m, const std::string& v) { opt(m).uv_solve.overlap_samples_per_texel = num(v); }),
   };

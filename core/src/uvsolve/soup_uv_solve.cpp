@@ -3,6 +3,7 @@
 #include <chrono>
 #include <cmath>
 
+#include "uvsolve/attach_islands.h"
 #include "uvsolve/fold_cut.h"
 #include "uvsolve/island_solve.h"
 #include "uvsolve/overlap_split.h"
@@ -178,6 +179,28 @@ SoupUvResult solve_soup_uvs(const Soup& soup, const geometry::Weld& weld,
   }
   merge["seconds"] = since(t_merge);
   d["seam_merge"] = merge;
+
+  // Small islands attached to a neighbour: each island pays the packing
+  // its padding p on every side, whatever its size. An island of side a
+  // texels takes (a + p)^2 with it, more than twice its own a^2 when
+  // a < p / (sqrt(2) - 1); its area is measured in the texels of a full
+  // square (the finest the packing can reach), so no island is taken for
+  // smaller than it will be.
+  auto t_attach = Clock::now();
+  const double full_texel = rest_area > 0 ? std::sqrt(rest_area) / options.texture_size : 0;
+  const double small_side = options.padding_px / (std::sqrt(2.0) - 1) * full_texel;
+  const detail::AttachFigures af = detail::attach_small_islands(
+      soup, pairs, uv_per_length, options.collapse_ratio, options.reembed_max_stretch,
+      options.attach_small_islands ? small_side * small_side : 0, layout);
+  d["attach"] = {{"candidates", af.candidates},
+                 {"attempts", af.attempts},
+                 {"attached", af.attached},
+                 {"refused_fold", af.refused_fold},
+                 {"refused_stretch", af.refused_stretch},
+                 {"refused_overlap", af.refused_overlap},
+                 {"islands", layout.island_count},
+                 {"kept_pairs", kept_pairs(pairs, layout)},
+                 {"seconds", since(t_attach)}};
 
   auto t4 = Clock::now();
   const detail::PackFigures pf = detail::pack_islands(layout, options.texture_size, options.padding_px,

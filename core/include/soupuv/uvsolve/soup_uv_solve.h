@@ -28,7 +28,10 @@
 //            (union_merge.h, longest shared seams first); then rigid joins
 //            across the remaining seams (seam_merge.h), solved and split
 //            again.
-//         6. Pack (pack_islands.h): the bitmap packer at one density.
+//         6. Attach (attach_islands.h): islands smaller than their own
+//            padding are moved rigidly onto a neighbouring island across a
+//            welded edge where that folds, laps and stretches nothing.
+//         7. Pack (pack_islands.h): the bitmap packer at one density.
 // Cost  : O(n log n) besides the solve's sparse factorisations.
 #pragma once
 
@@ -64,6 +67,10 @@ struct SoupUvOptions {
   // refused. Off: the step list without them (for comparison).
   bool reembed = true;
   double reembed_max_stretch = 1.25;
+  // Islands whose padding would take more texels than they do are attached
+  // rigidly to a neighbouring island where that folds, laps and stretches
+  // nothing (attach_islands.h). Off: each keeps its own padding.
+  bool attach_small_islands = true;
   int threads = 1;
 };
 

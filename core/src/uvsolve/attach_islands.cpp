@@ -1,0 +1,275 @@
+#include "uvsolve/attach_islands.h"
+
+#include <algorithm>
+#include <cmath>
+#include <numeric>
+#include <unordered_map>
+
+#include "soupuv/geometry/triangle_stretch.h"
+#include "transfer/sym_dirichlet.h"
+#include "uvsolve/pairs_by_triangle.h"
+#include "uvsolve/untangle.h"
+
+namespace soupuv::uvsolve::detail {
+namespace {
+
+using Corners = std::array<Vec2, 3>;
+
+// The largest island tried (the self-overlap test is quadratic in it).
+constexpr size_t kMaxTriangles = 64;
+// Hosts tried per small island, most shared edges first.
+constexpr size_t kHostsTried = 3;
+// A triangle whose box spans more grid cells than this is listed with its
+// island's large triangles instead (CAD soups mix huge and tiny triangles).
+constexpr int64_t kMaxCellsPerTriangle = 64;
+
+// Whether two triangles' interiors overlap: no edge normal of either
+// separates them. Triangles that only touch (a shared edge or corner) are
+// separated up to a tolerance of 1e-7 of the edge tested.
+bool interiors_overlap(const Corners& p, const Corners& q) {
+  auto separated_by_an_edge_of = [](const Corners& a, const Corners& b) {
+    for (int k = 0; k < 3; ++k) {
+      const Vec2 e = a[(k + 1) % 3] - a[k];
+      const double len = std::sqrt(dot(e, e));
+      if (!(len > 0)) continue;
+      const Vec2 axis{-e.y / len, e.x / len};
+      double a_lo = INFINITY, a_hi = -INFINITY, b_lo = INFINITY, b_hi = -INFINITY;
+      for (int c = 0; c < 3; ++c) {
+        const double x = dot(axis, a[c]), y = dot(axis, b[c]);
+        a_lo = std::min(a_lo, x), a_hi = std::max(a_hi, x);
+        b_lo = std::min(b_lo, y), b_hi = std::max(b_hi, y);
+      }
+      const double tol = 1e-7 * len;
+      if (a_hi <= b_lo + tol || b_hi <= a_lo + tol) return true;
+    }
+    return false;
+  };
+  return !separated_by_an_edge_of(p, q) && !separated_by_an_edge_of(q, p);
+}
+
+// The layout's triangles in a uniform grid, per island; an island's
+// triangles are found from the cells a query box touches.
+class IslandGrid {
+ public:
+  explicit IslandGrid(double cell) : inv_(1.0 / cell) {}
+  void insert(uint32_t island, uint32_t t, const Corners& c) {
+    const Box b = box(c);
+    if ((b.x1 - b.x0 + 1) * (b.y1 - b.y0 + 1) > kMaxCellsPerTriangle) {
+      large_[island].push_back(t);
+      return;
+    }
+    for (int64_t x = b.x0; x <= b.x1; ++x)
+      for (int64_t y = b.y0; y <= b.y1; ++y) cells_[key(island, x, y)].push_back(t);
+  }
+  // Calls visit(t) for the island's triangles whose cells meet the box of
+  // `c` (a triangle may come more than once; other islands' may come too).
+  template <class Visit>
+  bool any_near(uint32_t island, const Corners& c, Visit&& visit) const {
+    if (auto it = large_.find(island); it != large_.end())
+      for (uint32_t t : it->second)
+        if (visit(t)) return true;
+    const Box b = box(c);
+    for (int64_t x = b.x0; x <= b.x1; ++x)
+      for (int64_t y = b.y0; y <= b.y1; ++y)
+        if (auto it = cells_.find(key(island, x, y)); it != cells_.end())
+          for (uint32_t t : it->second)
+            if (visit(t)) return true;
+    return false;
+  }
+
+ private:
+  struct Box {
+    int64_t x0, y0, x1, y1;
+  };
+  Box box(const Corners& c) const {
+    const double x0 = std::min({c[0].x, c[1].x, c[2].x}), x1 = std::max({c[0].x, c[1].x, c[2].x});
+    const double y0 = std::min({c[0].y, c[1].y, c[2].y}), y1 = std::max({c[0].y, c[1].y, c[2].y});
+    return {int64_t(std::floor(x0 * inv_)), int64_t(std::floor(y0 * inv_)), int64_t(std::floor(x1 * inv_)),
+            int64_t(std::floor(y1 * inv_))};
+  }
+  static uint64_t key(uint32_t island, int64_t x, int64_t y) {
+    // Collisions only add candidates, which the caller filters by island.
+    return (uint64_t(island) * 0x9E3779B97F4A7C15ull) ^ (uint64_t(x) * 0xC2B2AE3D27D4EB4Full) ^
+           (uint64_t(y) * 0x165667B19E3779F9ull);
+  }
+  double inv_;
+  std::unordered_map<uint64_t, std::vector<uint32_t>> cells_;
+  std::unordered_map<uint32_t, std::vector<uint32_t>> large_;
+};
+
+Corners corners_of(const UvLayout& L, uint32_t t) {
+  return {L.uv[L.corner_vertex[t][0]], L.uv[L.corner_vertex[t][1]], L.uv[L.corner_vertex[t][2]]};
+}
+
+// Sander's L2 stretch of the triangles' corners against their soup
+// triangles' own shapes, normalised as eval/uvmetrics.py normalises a map.
+double stretch_l2(const Soup& soup, double uv_per_length, const std::vector<uint32_t>& tris,
+                  const std::vector<Corners>& uv) {
+  double sum_l2 = 0, a3 = 0, a2 = 0;
+  for (size_t k = 0; k < tris.size(); ++k) {
+    const auto r = transfer::detail::rest_triangle(soup.corner(tris[k], 0), soup.corner(tris[k], 1),
+                                                   soup.corner(tris[k], 2), uv_per_length, 1.0);
+    if (!r.valid) continue;
+    const geometry::TriangleStretch s = geometry::triangle_stretch(
+        {Vec3{r.x[0].x, r.x[0].y, 0}, Vec3{r.x[1].x, r.x[1].y, 0}, Vec3{r.x[2].x, r.x[2].y, 0}}, uv[k]);
+    sum_l2 += s.l2_squared * s.area3d;
+    a3 += s.area3d;
+    a2 += std::max(0.0, s.area_uv);
+  }
+  if (a3 <= 0) return 1;
+  return std::sqrt(sum_l2 / a3) * std::sqrt(a2 / a3);
+}
+
+}  // namespace
+
+AttachFigures attach_small_islands(const Soup& soup, const std::vector<geometry::AdjacentPair>& pairs,
+                                   double uv_per_length, double collapse_ratio, double max_stretch,
+                                   double max_area, UvLayout& L) {
+  AttachFigures f;
+  const size_t n = L.corner_vertex.size();
+  if (!(max_area > 0) || n == 0 || L.island_count < 2) return f;
+  double uv_area = 0;
+  for (size_t t = 0; t < n; ++t) uv_area += 0.5 * std::abs(signed_area2(L, t));
+  if (!(uv_area > 0)) return f;
+  // Cells of about two mean triangles a side: a query touches a few cells.
+  IslandGrid grid(2 * std::sqrt(uv_area / double(n)));
+  for (uint32_t t = 0; t < n; ++t) grid.insert(L.island[t], t, corners_of(L, t));
+
+  std::vector<std::vector<uint32_t>> members = island_triangles(L);
+  std::vector<uint32_t> host(L.island_count);
+  std::iota(host.begin(), host.end(), 0u);
+  auto find = [&](uint32_t x) {
+    while (host[x] != x) x = host[x] = host[host[x]];
+    return x;
+  };
+  const PairsByTriangle by_triangle(pairs, n);
+
+  std::vector<double> area(L.island_count, 0);
+  for (uint32_t t = 0; t < n; ++t) area[L.island[t]] += 0.5 * std::abs(signed_area2(L, t));
+  std::vector<uint32_t> order;
+  for (uint32_t i = 0; i < L.island_count; ++i)
+    if (!members[i].empty() && members[i].size() <= kMaxTriangles && area[i] <= max_area) order.push_back(i);
+  std::stable_sort(order.begin(), order.end(), [&](uint32_t a, uint32_t b) { return area[a] < area[b]; });
+
+  std::unordered_map<uint32_t, uint32_t> snap;  // small island's vertex -> host's vertex
+  std::vector<Corners> moved;
+  for (const uint32_t j : order) {
+    if (find(j) != j) continue;  // attached to another already
+    const std::vector<uint32_t>& mine = members[j];
+    // Neighbouring islands and the welded pairs shared with each.
+    std::unordered_map<uint32_t, std::vector<uint32_t>> shared;
+    for (uint32_t t : mine)
+      for (uint32_t e = by_triangle.first[t]; e < by_triangle.first[t + 1]; ++e) {
+        const auto& p = pairs[by_triangle.index[e]];
+        const uint32_t h = find(L.island[p.a == t ? p.b : p.a]);
+        if (h != j) shared[h].push_back(by_triangle.index[e]);
+      }
+    if (shared.empty()) continue;
+    ++f.candidates;
+    std::vector<std::pair<uint32_t, std::vector<uint32_t>>> hosts(shared.begin(), shared.end());
+    std::sort(hosts.begin(), hosts.end(), [&](const auto& a, const auto& b) {
+      if (a.second.size() != b.second.size()) return a.second.size() > b.second.size();
+      if (members[a.first].size() != members[b.first].size()) return members[a.first].size() > members[b.first].size();
+      return a.first < b.first;
+    });
+    if (hosts.size() > kHostsTried) hosts.resize(kHostsTried);
+    // One attempt: snapped along the given welded pairs with host h.
+    auto try_attach = [&](uint32_t h, const uint32_t* pair_ids, size_t pair_count) {
+      ++f.attempts;
+      // The shared corners: this island's vertex -> the host's (first match wins).
+      snap.clear();
+      for (size_t q = 0; q < pair_count; ++q) {
+        const auto& p = pairs[pair_ids[q]];
+        const bool a_is_mine = find(L.island[p.a]) == j;
+        const uint32_t t = a_is_mine ? p.a : p.b, o = a_is_mine ? p.b : p.a;
+        for (int s = 0; s < 2; ++s) {
+          const uint32_t v = L.corner_vertex[t][a_is_mine ? p.a_corner[s] : p.b_corner[s]];
+          const uint32_t w = L.corner_vertex[o][a_is_mine ? p.b_corner[s] : p.a_corner[s]];
+          snap.emplace(v, w);
+        }
+      }
+      // Rigid motion onto the host: 2D Procrustes on the shared corners.
+      Vec2 cm{0, 0}, ch{0, 0};
+      for (const auto& [v, w] : snap) cm = cm + L.uv[v], ch = ch + L.uv[w];
+      cm = (1.0 / double(snap.size())) * cm;
+      ch = (1.0 / double(snap.size())) * ch;
+      double sc = 0, sd = 0;
+      for (const auto& [v, w] : snap) {
+        const Vec2 a = L.uv[v] - cm, b = L.uv[w] - ch;
+        sd += dot(a, b);
+        sc += cross(a, b);
+      }
+      const double len = std::hypot(sc, sd);
+      const Vec2 rot = len > 0 ? Vec2{sd / len, sc / len} : Vec2{1, 0};  // cos, sin
+      auto place = [&](uint32_t v) {
+        if (auto it = snap.find(v); it != snap.end()) return L.uv[it->second];
+        const Vec2 a = L.uv[v] - cm;
+        return Vec2{rot.x * a.x - rot.y * a.y, rot.y * a.x + rot.x * a.y} + ch;
+      };
+      moved.resize(mine.size());
+      bool folds = false;
+      for (size_t k = 0; k < mine.size(); ++k) {
+        for (int c = 0; c < 3; ++c) moved[k][c] = place(L.corner_vertex[mine[k]][c]);
+        const double a = 0.5 * cross(moved[k][1] - moved[k][0], moved[k][2] - moved[k][0]);
+        const double rest = triangle_area(soup, mine[k]) * uv_per_length * uv_per_length;
+        folds = folds || (rest == 0 ? a < 0 : !(a > collapse_ratio * rest));
+      }
+      if (folds) {
+        ++f.refused_fold;
+        return false;
+      }
+      if (stretch_l2(soup, uv_per_length, mine, moved) > max_stretch) {
+        ++f.refused_stretch;
+        return false;
+      }
+      bool overlaps = false;
+      for (size_t k = 0; k < mine.size() && !overlaps; ++k) {
+        for (size_t l = k + 1; l < mine.size() && !overlaps; ++l) overlaps = interiors_overlap(moved[k], moved[l]);
+        overlaps = overlaps || grid.any_near(h, moved[k], [&](uint32_t u) {
+                     return find(L.island[u]) == h && interiors_overlap(moved[k], corners_of(L, u));
+                   });
+      }
+      if (overlaps) {
+        ++f.refused_overlap;
+        return false;
+      }
+      // Kept: the island's corners take the host's shared vertices, its
+      // other vertices move with it, and its triangles join the host.
+      for (size_t k = 0; k < mine.size(); ++k)
+        for (int c = 0; c < 3; ++c) {
+          uint32_t& v = L.corner_vertex[mine[k]][c];
+          if (auto it = snap.find(v); it != snap.end()) v = it->second;
+        }
+      for (size_t k = 0; k < mine.size(); ++k)
+        for (int c = 0; c < 3; ++c) L.uv[L.corner_vertex[mine[k]][c]] = moved[k][c];
+      host[j] = h;
+      for (uint32_t t : mine) grid.insert(h, t, corners_of(L, t));
+      members[h].insert(members[h].end(), mine.begin(), mine.end());
+      members[j].clear();
+      ++f.attached;
+      return true;
+    };
+    // All the pairs shared with a host first; where snapping them all folds
+    // or laps, each shared edge alone (the island keeps its own shape).
+    for (const auto& [h, pair_ids] : hosts) {
+      if (try_attach(h, pair_ids.data(), pair_ids.size())) break;
+      bool attached = false;
+      for (size_t q = 0; q < pair_ids.size() && q < kHostsTried && pair_ids.size() > 1 && !attached; ++q)
+        attached = try_attach(h, &pair_ids[q], 1);
+      if (attached) break;
+    }
+  }
+  if (f.attached == 0) return f;
+  // Island ids stay dense: renumber the hosts.
+  std::vector<uint32_t> id(L.island_count, UINT32_MAX);
+  uint32_t count = 0;
+  for (size_t t = 0; t < n; ++t) {
+    uint32_t& k = id[find(L.island[t])];
+    if (k == UINT32_MAX) k = count++;
+    L.island[t] = k;
+  }
+  L.island_count = count;
+  return f;
+}
+
+}  // namespace soupuv::uvsolve::detail
