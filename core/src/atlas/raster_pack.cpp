@@ -160,6 +160,14 @@ RasterPackResult raster_pack(std::vector<PackChart>& charts, int texture_size, d
   RowRuns occ(side, 2 * side);
 
   std::vector<std::vector<Turn>> turns(n);
+  // The turns of the charts whose shape depends on the scale, at `scale`.
+  auto reshape = [&](double scale) {
+    if (!options.at_scale || !options.elastic) return;
+    options.at_scale(scale);
+    for (int i = 0; i < n; ++i)
+      if ((*options.elastic)[i])
+        for (int k = 0; k < options.angles; ++k) turns[i][k] = turn_chart(*charts[i].uv, 2 * M_PI * k / options.angles);
+  };
   std::vector<double> area(n, 0);
   double total_area = 0;
   for (int i = 0; i < n; ++i) {
@@ -187,6 +195,7 @@ RasterPackResult raster_pack(std::vector<PackChart>& charts, int texture_size, d
   std::vector<Placed> placed(n), best;
   auto pack_at = [&](double scale, const std::vector<int>& order, double height_weight) {
     ++result.attempts;
+    reshape(scale);
     // A turn wider than the square or taller than the strip cannot fit and
     // is not rasterised (a needle a billion times longer than wide, at a
     // scale set by its area, would need more texels than memory holds).
@@ -341,6 +350,7 @@ RasterPackResult raster_pack(std::vector<PackChart>& charts, int texture_size, d
   }
   if (found <= scale_to_beat) return result;
 
+  reshape(found);
   for (int i = 0; i < n; ++i) {
     const Turn& t = turns[i][best[i].turn];
     auto& uv = *charts[i].uv;

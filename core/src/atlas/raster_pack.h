@@ -27,6 +27,8 @@
 // try to beat the best scale so far; the largest scale that fit wins.
 #pragma once
 
+#include <cstdint>
+#include <functional>
 #include <vector>
 
 #include "pack.h"  // relative: the tests include this header by path
@@ -40,6 +42,14 @@ struct RasterPackOptions {
   int variant_packings = 3;  // and each further variant
 
   int threads = 1;
+
+  // Charts whose shape depends on the scale: before each packing, and
+  // before the kept one is written, at_scale(scale) rewrites the UVs of the
+  // charts marked in `elastic` in place (groups of small islands kept a
+  // number of texels apart, whatever the scale); their areas must not
+  // change. Null: every chart is rigid.
+  std::function<void(double scale)> at_scale;
+  const std::vector<uint8_t>* elastic = nullptr;
 };
 
 struct RasterPackResult {

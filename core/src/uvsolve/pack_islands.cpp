@@ -31,6 +31,36 @@ struct Unit {
   std::vector<std::array<int, 2>> boundary;
 };
 
+// Small islands packed as one unit: rows of islands side by side, each
+// island's vertices a range of the unit's, moved by `shift` from the
+// island's own frame (its box's corner at the origin).
+struct GroupMember {
+  Vec2 size;
+  uint32_t first, count;
+  Vec2 shift;
+};
+struct Group {
+  uint32_t unit;
+  std::vector<std::vector<GroupMember>> rows;
+};
+
+// Places a group's rows `gap` apart, and its islands `gap` apart in a row.
+void lay_out_rows(Group& g, double gap, std::vector<Unit>& units) {
+  Unit& unit = units[g.unit];
+  double y = 0;
+  for (auto& row : g.rows) {
+    double x = 0, row_height = 0;
+    for (GroupMember& m : row) {
+      const Vec2 shift{x, y};
+      for (uint32_t v = m.first; v < m.first + m.count; ++v) unit.uv[v] = unit.uv[v] - m.shift + shift;
+      m.shift = shift;
+      x += m.size.x + gap;
+      row_height = std::max(row_height, m.size.y);
+    }
+    y += row_height + gap;
+  }
+}
+
 // Appends island `tris` of the layout to `unit`, its vertices moved by
 // `shift`; records where each corner's vertex went.
 // Turned by `axis` (a unit vector that becomes +x) first, when given.
@@ -88,10 +118,11 @@ PackFigures pack_islands(const UvLayout& L, int texture_size, double padding_px,
         hi[i] = {std::max(hi[i].x, L.uv[v].x), std::max(hi[i].y, L.uv[v].y)};
       }
     }
-  // The packing's scale is at most the one that fills the square: the gap
-  // kept between grouped islands, in UV units, holds the padding at least.
+  // Grouped islands are kept the padding apart at every trial scale (the
+  // rows are laid out again per packing, below); the rows are filled with
+  // the gap of the largest scale, the one that fills the square.
   const double max_scale = total_area > 0 ? raster / std::sqrt(total_area) : 1;
-  const double gap = (std::ceil(raster_padding) + 1) / max_scale;
+  const double fill_gap = raster_padding / max_scale;
   // When there are many islands, all but the kPackedAlone largest (each costs the
   // packer a rasterisation per turn and a search per packing, whatever its
   // size) are grouped into rows about 1/8 of the square's side wide before
@@ -147,31 +178,42 @@ PackFigures pack_islands(const UvLayout& L, int texture_size, double padding_px,
   std::stable_sort(order.begin(), order.end(),
                    [&](uint32_t a, uint32_t b) { return hi[a].y - lo[a].y > hi[b].y - lo[b].y; });
   size_t grouped = 0;
+  std::vector<Group> groups;
   for (size_t at = 0; at < order.size();) {
     units.emplace_back();
     Unit& unit = units.back();
-    double y = 0;
+    groups.push_back({uint32_t(units.size() - 1), {}});
     for (int row = 0; row < 8 && at < order.size(); ++row) {
-      double x = 0, row_height = 0;
+      groups.back().rows.emplace_back();
+      double x = 0;
       while (at < order.size()) {
         const uint32_t i = order[at];
         const Vec2 size = hi[i] - lo[i];
         if (x > 0 && x + size.x > row_width) break;
-        append_island(L, islands[i], Vec2{x, y} - lo[i], unit, local, corner_slot, axis[i]);
+        const uint32_t first = uint32_t(unit.uv.size());
+        append_island(L, islands[i], -1.0 * lo[i], unit, local, corner_slot, axis[i]);
+        groups.back().rows.back().push_back({size, first, uint32_t(unit.uv.size() - first), Vec2{0, 0}});
         for (uint32_t t : islands[i]) unit_of_triangle[t] = uint32_t(units.size() - 1);
-        x += size.x + gap;
-        row_height = std::max(row_height, size.y);
+        x += size.x + fill_gap;
         ++at;
         ++grouped;
       }
-      y += row_height + gap;
     }
+    lay_out_rows(groups.back(), fill_gap, units);
   }
 
   std::vector<atlas::PackChart> charts(units.size());
   for (size_t u = 0; u < units.size(); ++u) charts[u] = {&units[u].uv, &units[u].tris, nullptr, &units[u].boundary};
   atlas::RasterPackOptions ro;
   ro.threads = threads;
+  std::vector<uint8_t> elastic(units.size(), 0);
+  for (const Group& g : groups) elastic[g.unit] = 1;
+  if (!groups.empty()) {
+    ro.elastic = &elastic;
+    ro.at_scale = [&](double scale) {
+      for (Group& g : groups) lay_out_rows(g, raster_padding / scale, units);
+    };
+  }
   // Many units: eight turns, the scale search stopping within 1 % after at
   // most four packings, no further greedy variant (each packing rasterises
   // every unit in every turn; the time goes to packing more islands alone

@@ -6,7 +6,9 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <algorithm>
 #include <functional>
+#include <map>
 
 #include "soupuv/quality/uv_overlap.h"
 #include "soupuv/geometry/weld.h"
@@ -238,6 +240,56 @@ TEST(SoupUvSolve, ManyIslandsArePackedWithoutOverlapAndUseTheSquare) {
   for (const auto& p : s.pairs) EXPECT_TRUE(continuous(s.uv, p));
   const quality::UvOverlap o = quality::uv_overlap(s.uv, std::vector<uint8_t>(s.uv.size(), 1));
   EXPECT_GE(o.utilisation, 0.55);
+}
+
+
+double point_segment_distance(Vec2 p, Vec2 a, Vec2 b) {
+  const Vec2 ab = b - a;
+  const double len2 = dot(ab, ab);
+  const double s = len2 > 0 ? std::clamp(dot(p - a, ab) / len2, 0.0, 1.0) : 0.0;
+  return norm(p - (a + s * ab));
+}
+
+// Distance between two triangles that do not overlap.
+double triangle_distance(const std::array<Vec2, 3>& a, const std::array<Vec2, 3>& b) {
+  double d = INFINITY;
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < 3; ++j) {
+      d = std::min(d, point_segment_distance(a[i], b[j], b[(j + 1) % 3]));
+      d = std::min(d, point_segment_distance(b[i], a[j], a[(j + 1) % 3]));
+    }
+  return d;
+}
+
+TEST(SoupUvSolve, ThousandsOfIslandsKeepThePaddingApart) {
+  // 5,000 separate unit squares: beyond the islands packed one by one, the
+  // rest go in rows, which must keep the padding at the scale the packing
+  // reaches, whatever it is.
+  Case c;
+  constexpr int kPatches = 5000;
+  for (int k = 0; k < kPatches; ++k) {
+    const double x0 = 3.0 * k;
+    add_grid(c, 1, [x0](double u, double v) { return Vec3{x0 + u, v, 0}; }, [](double u, double v) { return Vec2{u, v}; });
+  }
+  const Solved s = solve(c, 1.0);
+  expect_sound(c, s.uv);
+  EXPECT_GT(s.diagnostics["pack"]["grouped_islands"].get<size_t>(), 0u) << "the rows are what this tests";
+  // Every two triangles of different squares at least the padding (2
+  // texels of 1024) apart; neighbours found in a grid of 4-texel cells.
+  const double texel = 1.0 / 1024, cell = 4 * texel;
+  std::map<std::pair<int, int>, std::vector<uint32_t>> grid;
+  for (uint32_t t = 0; t < s.uv.size(); ++t) {
+    Vec2 lo{INFINITY, INFINITY}, hi{-INFINITY, -INFINITY};
+    for (const Vec2& p : s.uv[t]) lo = {std::min(lo.x, p.x), std::min(lo.y, p.y)}, hi = {std::max(hi.x, p.x), std::max(hi.y, p.y)};
+    for (int x = int(lo.x / cell) - 1; x <= int(hi.x / cell) + 1; ++x)
+      for (int y = int(lo.y / cell) - 1; y <= int(hi.y / cell) + 1; ++y) grid[{x, y}].push_back(t);
+  }
+  double closest = INFINITY;
+  for (const auto& [key, tris] : grid)
+    for (size_t i = 0; i < tris.size(); ++i)
+      for (size_t j = i + 1; j < tris.size(); ++j)
+        if (tris[i] / 2 != tris[j] / 2) closest = std::min(closest, triangle_distance(s.uv[tris[i]], s.uv[tris[j]]));
+  EXPECT_GE(closest / texel, 2.0 - 1e-6);
 }
 
 }  // namespace
