@@ -148,7 +148,7 @@ SoupUvResult solve_soup_uvs(const Soup& soup, const geometry::Weld& weld,
     auto t_um = Clock::now();
     const detail::UnionMergeFigures uf2 = detail::merge_by_reflattening(
         soup, uv_per_length, pairs, cell, options.reembed_max_stretch,
-        options.solve_iterations, options.merge_attempts_per_island, layout);
+        options.solve_iterations, options.merge_attempts_per_island, options.threads, layout);
     d["union_merge"] = {{"attempts", uf2.attempts},
                         {"joined", uf2.joined},
                         {"islands", layout.island_count},

@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <numeric>
 
+#include <omp.h>
+
 #include "uvsolve/pairs_by_triangle.h"
 #include "uvsolve/piece_flatten.h"
 
@@ -10,12 +12,22 @@ namespace soupuv::uvsolve::detail {
 namespace {
 // Attempts may flatten this many times the soup's triangles in all.
 constexpr size_t kFlattenBudget = 8;
+// Attempts flattened at once (a constant, so the result does not depend on
+// the thread count).
+constexpr size_t kBatch = 64;
+
+// The island x has been joined into (read-only: the parallel attempts
+// must not compress the shared paths).
+uint32_t root_of(const std::vector<uint32_t>& root, uint32_t x) {
+  while (root[x] != x) x = root[x];
+  return x;
+}
 }  // namespace
 
 UnionMergeFigures merge_by_reflattening(const Soup& soup, double uv_per_length,
                                         const std::vector<geometry::AdjacentPair>& pairs, double cell,
                                         double max_stretch, int solve_iterations, size_t attempts_per_island,
-                                        UvLayout& L) {
+                                        int threads, UvLayout& L) {
   UnionMergeFigures f;
   std::vector<std::vector<uint32_t>> members = island_triangles(L);
   const size_t n = L.corner_vertex.size();
@@ -44,60 +56,104 @@ UnionMergeFigures merge_by_reflattening(const Soup& soup, double uv_per_length,
     return x;
   };
   std::vector<size_t> attempts(L.island_count, 0);
-  std::vector<uint32_t> vertex_of(L.uv.size());
-  std::iota(vertex_of.begin(), vertex_of.end(), 0u);
-  std::vector<uint32_t> touched;
   // The work bound: triangles flattened in all attempts together.
   const size_t budget = kFlattenBudget * n;
   size_t flattened = 0;
-  for (const auto& [key, count] : seams) {
-    uint32_t i = find(uint32_t(key >> 32)), j = find(uint32_t(key));
-    if (i == j || attempts[i] >= attempts_per_island || attempts[j] >= attempts_per_island) continue;
-    const size_t size = members[i].size() + members[j].size();
-    if (flattened + size > budget) continue;
-    flattened += size;
-    ++f.attempts;
-    if (members[i].size() < members[j].size()) std::swap(i, j);  // j: the smaller
-    // Close the seam: the smaller island's shared corners take the larger's vertices.
-    touched.clear();
-    for (uint32_t t : members[j])
-      for (uint32_t e = by_triangle.first[t]; e < by_triangle.first[t + 1]; ++e) {
-        const auto& p = pairs[by_triangle.index[e]];
-        const bool t_is_a = p.a == t;
-        const uint32_t o = t_is_a ? p.b : p.a;
-        if (find(L.island[o]) != i) continue;
-        for (int s = 0; s < 2; ++s) {
-          const uint32_t mine = L.corner_vertex[t][t_is_a ? p.a_corner[s] : p.b_corner[s]];
-          const uint32_t theirs = L.corner_vertex[o][t_is_a ? p.b_corner[s] : p.a_corner[s]];
-          if (vertex_of[mine] != mine) continue;  // joined already
-          vertex_of[mine] = theirs;
-          touched.push_back(mine);
-        }
-      }
-    std::vector<uint32_t> tris = members[i];
-    tris.insert(tris.end(), members[j].begin(), members[j].end());
-    const PieceMesh m = piece_mesh(soup, uv_per_length, tris, L, &vertex_of);
+  const int team = std::max(1, threads);
+  // Per thread: layout vertex -> the vertex it is joined to (identity but
+  // for the join being flattened).
+  std::vector<std::vector<uint32_t>> vertex_of(static_cast<size_t>(team));
+
+  // Rounds: up to kBatch attempts on islands no earlier attempt of the
+  // round touches are flattened at once, then applied in seam order. A
+  // seam whose island an earlier seam of the round touches waits for the
+  // next round, and blocks its islands for the seams after it, so every
+  // attempt sees its islands as the one-by-one order would.
+  struct Attempt {
+    uint32_t i, j;  // j: the smaller, joined into i
+    std::vector<uint32_t> tris;
+    bool kept = false;
     Piece piece;
-    const bool kept = m.components == 1 &&
-                      flatten(m, tris, cell, max_stretch, solve_iterations, piece) == Outcome::kept;
-    for (uint32_t v : touched) vertex_of[v] = v;
-    if (!kept) {
-      ++attempts[i], ++attempts[j];  // only refusals count: a join may be followed by more
-      continue;
+  };
+  std::vector<uint8_t> busy(L.island_count, 0);
+  std::vector<uint32_t> busy_list;
+  auto block = [&](uint32_t x) {
+    if (!busy[x]) busy[x] = 1, busy_list.push_back(x);
+  };
+  std::vector<std::pair<uint64_t, uint32_t>> pending = std::move(seams), later;
+  std::vector<Attempt> batch;
+  while (!pending.empty()) {
+    batch.clear();
+    later.clear();
+    size_t k = 0;
+    for (; k < pending.size() && batch.size() < kBatch; ++k) {
+      uint32_t i = find(uint32_t(pending[k].first >> 32)), j = find(uint32_t(pending[k].first));
+      if (busy[i] || busy[j]) {
+        later.push_back(pending[k]);
+        block(i), block(j);
+        continue;
+      }
+      if (i == j || attempts[i] >= attempts_per_island || attempts[j] >= attempts_per_island) continue;
+      const size_t size = members[i].size() + members[j].size();
+      if (flattened + size > budget) continue;
+      flattened += size;
+      ++f.attempts;
+      if (members[i].size() < members[j].size()) std::swap(i, j);
+      batch.push_back({i, j, {}, false, {}});
+      block(i), block(j);
     }
-    ++f.joined;
-    const uint32_t base = uint32_t(L.uv.size());
-    L.uv.insert(L.uv.end(), piece.uv.begin(), piece.uv.end());
-    vertex_of.resize(L.uv.size());
-    std::iota(vertex_of.begin() + base, vertex_of.end(), base);
-    for (size_t k = 0; k < tris.size(); ++k) {
-      for (int c = 0; c < 3; ++c) L.corner_vertex[tris[k]][c] = base + piece.corner[k][c];
-      L.island[tris[k]] = i;
+    later.insert(later.end(), pending.begin() + k, pending.end());
+    for (auto& v : vertex_of) {
+      const size_t old = v.size();
+      v.resize(L.uv.size());
+      std::iota(v.begin() + old, v.end(), uint32_t(old));
     }
-    root[j] = i;
-    members[i] = std::move(tris);
-    members[j].clear();
-    attempts[i] = std::max(attempts[i], attempts[j]);
+#pragma omp parallel for schedule(dynamic, 1) num_threads(team)
+    for (size_t b = 0; b < batch.size(); ++b) {
+      Attempt& a = batch[b];
+      std::vector<uint32_t>& join = vertex_of[size_t(omp_get_thread_num())];
+      // Close the seam: the smaller island's shared corners take the larger's vertices.
+      std::vector<uint32_t> touched;
+      for (uint32_t t : members[a.j])
+        for (uint32_t e = by_triangle.first[t]; e < by_triangle.first[t + 1]; ++e) {
+          const auto& p = pairs[by_triangle.index[e]];
+          const bool t_is_a = p.a == t;
+          const uint32_t o = t_is_a ? p.b : p.a;
+          if (root_of(root, L.island[o]) != a.i) continue;
+          for (int s = 0; s < 2; ++s) {
+            const uint32_t mine = L.corner_vertex[t][t_is_a ? p.a_corner[s] : p.b_corner[s]];
+            const uint32_t theirs = L.corner_vertex[o][t_is_a ? p.b_corner[s] : p.a_corner[s]];
+            if (join[mine] != mine) continue;  // joined already
+            join[mine] = theirs;
+            touched.push_back(mine);
+          }
+        }
+      a.tris = members[a.i];
+      a.tris.insert(a.tris.end(), members[a.j].begin(), members[a.j].end());
+      const PieceMesh m = piece_mesh(soup, uv_per_length, a.tris, L, &join);
+      a.kept = m.components == 1 && flatten(m, a.tris, cell, max_stretch, solve_iterations, a.piece) == Outcome::kept;
+      for (uint32_t v : touched) join[v] = v;
+    }
+    for (Attempt& a : batch) {
+      if (!a.kept) {
+        ++attempts[a.i], ++attempts[a.j];  // only refusals count: a join may be followed by more
+        continue;
+      }
+      ++f.joined;
+      const uint32_t base = uint32_t(L.uv.size());
+      L.uv.insert(L.uv.end(), a.piece.uv.begin(), a.piece.uv.end());
+      for (size_t k2 = 0; k2 < a.tris.size(); ++k2) {
+        for (int c = 0; c < 3; ++c) L.corner_vertex[a.tris[k2]][c] = base + a.piece.corner[k2][c];
+        L.island[a.tris[k2]] = a.i;
+      }
+      root[a.j] = a.i;
+      members[a.i] = std::move(a.tris);
+      members[a.j].clear();
+      attempts[a.i] = std::max(attempts[a.i], attempts[a.j]);
+    }
+    for (uint32_t x : busy_list) busy[x] = 0;
+    busy_list.clear();
+    pending.swap(later);
   }
   if (f.joined == 0) return f;
   // Island ids stay dense: renumber the survivors.

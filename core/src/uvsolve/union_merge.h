@@ -14,7 +14,8 @@
 //         islands' existing maps already fit; most seams the transfer, the
 //         folds and the overlaps cut lie between islands whose shapes would
 //         flatten together but whose current maps do not.
-// Cost  : per attempt one flattening of the union.
+// Cost  : per attempt one flattening of the union; attempts on disjoint
+//         islands run on `threads` threads.
 #pragma once
 
 #include <cstddef>
@@ -33,6 +34,6 @@ struct UnionMergeFigures {
 UnionMergeFigures merge_by_reflattening(const Soup& soup, double uv_per_length,
                                         const std::vector<geometry::AdjacentPair>& pairs, double cell,
                                         double max_stretch, int solve_iterations, size_t attempts_per_island,
-                                        UvLayout& layout);
+                                        int threads, UvLayout& layout);
 
 }  // namespace soupuv::uvsolve::detail
