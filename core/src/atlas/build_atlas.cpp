@@ -8,6 +8,7 @@
 #include <chrono>
 #include <cmath>
 #include <ctime>
+#include <exception>
 
 #include <omp.h>
 
@@ -324,20 +325,37 @@ AtlasResult build_atlas(const TriMesh& mesh, const AtlasOptions& options, Progre
   SeamPaths paths = trace_seam_hints(mesh, topology, options.seam_hints, options.alpha, options.beta);
   for (int e : paths.edges) seam[e] = 1;
 
-  Charted best = chart_with_budget(mesh, topology, seam, options, options.max_normal_deviation_deg, threads, progress);
   // Other budgets segment differently, and what merging and relaxation make
   // of a segmentation is hard to foresee; the weighted seam length predicts
   // the soup pairs the seams cut, so the cheapest charts win. Only with
   // weights: plain seam length says nothing about the soup. Chosen before
   // packing (most of the atlas's time), which with merged charts never
   // splits a chart, so the seams chosen are the seams packed.
-  int tried = 1;
+  std::vector<double> budgets{options.max_normal_deviation_deg};
   if (!options.seam_weight.empty())
-    for (double angle : options.alternative_normal_deviations_deg) {
-      Charted other = chart_with_budget(mesh, topology, seam, options, angle, threads, progress);
-      ++tried;
-      if (other.result.stats.seam_cost < best.result.stats.seam_cost) best = std::move(other);
+    budgets.insert(budgets.end(), options.alternative_normal_deviations_deg.begin(),
+                   options.alternative_normal_deviations_deg.end());
+  // The budgets are independent and run at least two at a time: the map's
+  // proxy branch has one thread of two, and on small soups the field
+  // branch is done long before the atlas (docs/tuning.md). Each budget's
+  // own loops then run on its one thread; the pick is the same.
+  std::vector<Charted> charted(budgets.size());
+  std::vector<std::exception_ptr> failed(budgets.size());
+  const int budget_threads = static_cast<int>(std::min<size_t>(budgets.size(), static_cast<size_t>(std::max(threads, 2))));
+#pragma omp parallel for schedule(dynamic, 1) num_threads(budget_threads)
+  for (size_t b = 0; b < budgets.size(); ++b) {
+    try {
+      charted[b] = chart_with_budget(mesh, topology, seam, options, budgets[b], budget_threads > 1 ? 1 : threads, progress);
+    } catch (...) {
+      failed[b] = std::current_exception();
     }
+  }
+  for (const auto& e : failed)
+    if (e) std::rethrow_exception(e);
+  Charted best = std::move(charted[0]);
+  for (size_t b = 1; b < budgets.size(); ++b)
+    if (charted[b].result.stats.seam_cost < best.result.stats.seam_cost) best = std::move(charted[b]);
+  const int tried = static_cast<int>(budgets.size());
   AtlasResult result = pack_and_measure(mesh, topology, seam, options, std::move(best), threads, progress);
   AtlasDiagnostics& stats = result.stats;
   stats.segment_budgets_tried = tried;
