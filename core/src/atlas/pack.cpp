@@ -138,7 +138,7 @@ class Occupancy {
   // Row-major: the placement test reads neighbouring columns at nearby rows.
   Occupancy(int width, int height)
       : width_(width), height_(height), occupied_(static_cast<size_t>(width) * height, 0),
-        run_(static_cast<size_t>(width) * height) {
+        run_(static_cast<size_t>(width) * height), top_filled_(width, -1) {
     for (int x = 0; x < width; ++x) update(x, height - 1, 0);
   }
   int height() const { return height_; }
@@ -148,6 +148,19 @@ class Occupancy {
     // Runs above y1 are unchanged; below y0 only the free run that ended in
     // the filled rows changes.
     update(x, y1, y0);
+    top_filled_[x] = std::max(top_filled_[x], y1);
+  }
+  // Empty again. Only the rows up to a column's highest filled row ever
+  // changed: a packing resets what it used, not the whole strip (three
+  // squares tall; rebuilding it was most of a few-chart packing).
+  void clear() {
+    for (int x = 0; x < width_; ++x) {
+      for (int y = 0; y <= top_filled_[x]; ++y) {
+        occupied_[at(x, y)] = 0;
+        run_[at(x, y)] = height_ - y;
+      }
+      top_filled_[x] = -1;
+    }
   }
 
  private:
@@ -165,6 +178,7 @@ class Occupancy {
   int width_, height_;
   std::vector<char> occupied_;
   std::vector<int> run_;
+  std::vector<int> top_filled_;  // per column: the highest row filled, -1 if none
 };
 
 // A chart turned and scaled, as one run of cells per column.
@@ -231,13 +245,13 @@ struct Heuristic {
 };
 
 // One packing at `scale` texels per UV unit into a strip one square wide and
-// three tall; returns the rows used (more than grid.rows overflows the
+// three tall (`occ`, emptied first); returns the rows used (more than grid.rows overflows the
 // square), or INT_MAX if a chart is wider than the strip.
 int pack_at(const std::vector<PackChart>& charts, const std::vector<std::vector<Pose>>& poses,
-            const Heuristic& heuristic, double scale, double padding, const Grid& grid,
+            const Heuristic& heuristic, double scale, double padding, const Grid& grid, Occupancy& occ,
             std::vector<Placement>& placements) {
   const double half = 0.5 * padding;
-  Occupancy occ(grid.columns, 3 * grid.rows);
+  occ.clear();
   placements.assign(charts.size(), {});
   int used = 0;
   for (int ci : *heuristic.order) {
@@ -333,6 +347,7 @@ PackResult pack_charts(std::vector<PackChart>& charts, int texture_size, double 
   // used height) — a few packings instead of a blind bisection. `lo` is the
   // largest scale seen to fit, `hi` the smallest seen to overflow.
   std::vector<Placement> placements, best_placements;
+  Occupancy occ(grid.columns, 3 * grid.rows);
   const double full = texture_size / std::sqrt(std::max(area, 1e-300));  // 100% utilisation
   double lo = 0;
   double precision = 1.005;  // scale bracket width at which a search stops
@@ -340,7 +355,7 @@ PackResult pack_charts(std::vector<PackChart>& charts, int texture_size, double 
     double hi = full, s = start, found = lo_known;
     for (int it = 0; it < 40 && (found == 0 || hi / found > precision); ++it) {
       ++result.attempts;
-      int used = pack_at(charts, poses, heuristic, s, padding_px, grid, placements);
+      int used = pack_at(charts, poses, heuristic, s, padding_px, grid, occ, placements);
       if (used <= grid.rows) {
         found = s;
         lo = std::max(lo, s);
