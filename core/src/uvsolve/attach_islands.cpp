@@ -8,6 +8,7 @@
 #include "soupuv/geometry/triangle_stretch.h"
 #include "transfer/sym_dirichlet.h"
 #include "uvsolve/pairs_by_triangle.h"
+#include "uvsolve/rigid_fit.h"
 #include "uvsolve/untangle.h"
 
 namespace soupuv::uvsolve::detail {
@@ -188,23 +189,13 @@ AttachFigures attach_small_islands(const Soup& soup, const std::vector<geometry:
           snap.emplace(v, w);
         }
       }
-      // Rigid motion onto the host: 2D Procrustes on the shared corners.
-      Vec2 cm{0, 0}, ch{0, 0};
-      for (const auto& [v, w] : snap) cm = cm + L.uv[v], ch = ch + L.uv[w];
-      cm = (1.0 / double(snap.size())) * cm;
-      ch = (1.0 / double(snap.size())) * ch;
-      double sc = 0, sd = 0;
-      for (const auto& [v, w] : snap) {
-        const Vec2 a = L.uv[v] - cm, b = L.uv[w] - ch;
-        sd += dot(a, b);
-        sc += cross(a, b);
-      }
-      const double len = std::hypot(sc, sd);
-      const Vec2 rot = len > 0 ? Vec2{sd / len, sc / len} : Vec2{1, 0};  // cos, sin
+      // Rigid motion onto the host, fitted on the shared corners.
+      std::vector<std::pair<Vec2, Vec2>> shared_corners;
+      for (const auto& [v, w] : snap) shared_corners.push_back({L.uv[v], L.uv[w]});
+      const RigidMotion motion = fit_rigid_motion(shared_corners);
       auto place = [&](uint32_t v) {
         if (auto it = snap.find(v); it != snap.end()) return L.uv[it->second];
-        const Vec2 a = L.uv[v] - cm;
-        return Vec2{rot.x * a.x - rot.y * a.y, rot.y * a.x + rot.x * a.y} + ch;
+        return motion(L.uv[v]);
       };
       moved.resize(mine.size());
       bool folds = false;

@@ -7,6 +7,7 @@
 #include "soupuv/union_find.h"
 #include "uvsolve/overlap_split.h"
 #include "uvsolve/pairs_by_triangle.h"
+#include "uvsolve/rigid_fit.h"
 #include "uvsolve/untangle.h"
 
 namespace soupuv::uvsolve::detail {
@@ -69,21 +70,10 @@ SeamMergeFigures merge_seams(const Soup& soup, const std::vector<geometry::Adjac
       if (ambiguous || match.size() < 3) continue;
     }
     ++f.attempts;
-    // Procrustes: the rotation and shift of B's matched corners onto A's.
-    Vec2 ca{0, 0}, cb{0, 0};
-    for (const auto& [va, vb] : match) {
-      ca = ca + L.uv[va];
-      cb = cb + L.uv[vb];
-    }
-    ca = (1.0 / double(match.size())) * ca;
-    cb = (1.0 / double(match.size())) * cb;
-    double sd = 0, sc = 0;
-    for (const auto& [va, vb] : match) {
-      const Vec2 x = L.uv[vb] - cb, y = L.uv[va] - ca;
-      sd += dot(x, y);
-      sc += cross(x, y);
-    }
-    const double angle = std::atan2(sc, sd), c = std::cos(angle), s = std::sin(angle);
+    // The rotation and shift of B's matched corners onto A's.
+    std::vector<std::pair<Vec2, Vec2>> b_to_a;
+    for (const auto& [va, vb] : match) b_to_a.push_back({L.uv[vb], L.uv[va]});
+    const RigidMotion motion = fit_rigid_motion(b_to_a);
     // Try it on copies: B's vertices moved, the matched ones joined.
     std::vector<uint32_t> b_vertices;
     for (uint32_t t : islands[B]) b_vertices.insert(b_vertices.end(), L.corner_vertex[t].begin(), L.corner_vertex[t].end());
@@ -92,10 +82,7 @@ SeamMergeFigures merge_seams(const Soup& soup, const std::vector<geometry::Adjac
     std::vector<Vec2> saved_uv(b_vertices.size());
     for (size_t i = 0; i < b_vertices.size(); ++i) saved_uv[i] = L.uv[b_vertices[i]];
     std::vector<std::pair<uint32_t, Vec2>> saved_a;
-    for (const uint32_t v : b_vertices) {
-      const Vec2 x = L.uv[v] - cb;
-      L.uv[v] = ca + Vec2{c * x.x - s * x.y, s * x.x + c * x.y};
-    }
+    for (const uint32_t v : b_vertices) L.uv[v] = motion(L.uv[v]);
     std::map<uint32_t, uint32_t> to_a;
     for (const auto& [va, vb] : match) {
       saved_a.push_back({va, L.uv[va]});
