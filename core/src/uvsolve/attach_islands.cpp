@@ -5,9 +5,9 @@
 #include <numeric>
 #include <unordered_map>
 
-#include "soupuv/geometry/triangle_stretch.h"
 #include "transfer/sym_dirichlet.h"
 #include "uvsolve/pairs_by_triangle.h"
+#include "uvsolve/piece_flatten.h"
 #include "uvsolve/rigid_fit.h"
 #include "uvsolve/untangle.h"
 
@@ -18,8 +18,10 @@ using Corners = std::array<Vec2, 3>;
 
 // The largest island tried (the self-overlap test is quadratic in it).
 constexpr size_t kMaxTriangles = 64;
-// Hosts tried per small island, most shared edges first.
+// Hosts tried per small island, most shared edges first, and shared
+// edges tried alone per host when snapping all of them fails.
 constexpr size_t kHostsTried = 3;
+constexpr size_t kEdgesTriedAlone = 3;
 // A triangle whose box spans more grid cells than this is listed with its
 // island's large triangles instead (CAD soups mix huge and tiny triangles).
 constexpr int64_t kMaxCellsPerTriangle = 64;
@@ -102,25 +104,6 @@ Corners corners_of(const UvLayout& L, uint32_t t) {
   return {L.uv[L.corner_vertex[t][0]], L.uv[L.corner_vertex[t][1]], L.uv[L.corner_vertex[t][2]]};
 }
 
-// Sander's L2 stretch of the triangles' corners against their soup
-// triangles' own shapes, normalised as eval/uvmetrics.py normalises a map.
-double stretch_l2(const Soup& soup, double uv_per_length, const std::vector<uint32_t>& tris,
-                  const std::vector<Corners>& uv) {
-  double sum_l2 = 0, a3 = 0, a2 = 0;
-  for (size_t k = 0; k < tris.size(); ++k) {
-    const auto r = transfer::detail::rest_triangle(soup.corner(tris[k], 0), soup.corner(tris[k], 1),
-                                                   soup.corner(tris[k], 2), uv_per_length, 1.0);
-    if (!r.valid) continue;
-    const geometry::TriangleStretch s = geometry::triangle_stretch(
-        {Vec3{r.x[0].x, r.x[0].y, 0}, Vec3{r.x[1].x, r.x[1].y, 0}, Vec3{r.x[2].x, r.x[2].y, 0}}, uv[k]);
-    sum_l2 += s.l2_squared * s.area3d;
-    a3 += s.area3d;
-    a2 += std::max(0.0, s.area_uv);
-  }
-  if (a3 <= 0) return 1;
-  return std::sqrt(sum_l2 / a3) * std::sqrt(a2 / a3);
-}
-
 }  // namespace
 
 AttachFigures attach_small_islands(const Soup& soup, const std::vector<geometry::AdjacentPair>& pairs,
@@ -154,6 +137,7 @@ AttachFigures attach_small_islands(const Soup& soup, const std::vector<geometry:
 
   std::unordered_map<uint32_t, uint32_t> snap;  // small island's vertex -> host's vertex
   std::vector<Corners> moved;
+  std::vector<transfer::detail::RestTriangle> rest;
   for (const uint32_t j : order) {
     if (find(j) != j) continue;  // attached to another already
     const std::vector<uint32_t>& mine = members[j];
@@ -201,15 +185,18 @@ AttachFigures attach_small_islands(const Soup& soup, const std::vector<geometry:
       bool folds = false;
       for (size_t k = 0; k < mine.size(); ++k) {
         for (int c = 0; c < 3; ++c) moved[k][c] = place(L.corner_vertex[mine[k]][c]);
-        const double a = 0.5 * cross(moved[k][1] - moved[k][0], moved[k][2] - moved[k][0]);
-        const double rest = triangle_area(soup, mine[k]) * uv_per_length * uv_per_length;
-        folds = folds || (rest == 0 ? a < 0 : !(a > collapse_ratio * rest));
+        folds = folds || is_folded(0.5 * cross(moved[k][1] - moved[k][0], moved[k][2] - moved[k][0]),
+                                   triangle_area(soup, mine[k]) * uv_per_length * uv_per_length, collapse_ratio);
       }
       if (folds) {
         ++f.refused_fold;
         return false;
       }
-      if (stretch_l2(soup, uv_per_length, mine, moved) > max_stretch) {
+      rest.clear();
+      for (uint32_t t : mine)
+        rest.push_back(transfer::detail::rest_triangle(soup.corner(t, 0), soup.corner(t, 1), soup.corner(t, 2),
+                                                       uv_per_length, 1.0));
+      if (rest_stretch_l2(rest, moved) > max_stretch) {
         ++f.refused_stretch;
         return false;
       }
@@ -245,7 +232,7 @@ AttachFigures attach_small_islands(const Soup& soup, const std::vector<geometry:
     for (const auto& [h, pair_ids] : hosts) {
       if (try_attach(h, pair_ids.data(), pair_ids.size())) break;
       bool attached = false;
-      for (size_t q = 0; q < pair_ids.size() && q < kHostsTried && pair_ids.size() > 1 && !attached; ++q)
+      for (size_t q = 0; q < pair_ids.size() && q < kEdgesTriedAlone && pair_ids.size() > 1 && !attached; ++q)
         attached = try_attach(h, &pair_ids[q], 1);
       if (attached) break;
     }

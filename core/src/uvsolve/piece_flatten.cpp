@@ -11,19 +11,20 @@
 namespace soupuv::uvsolve::detail {
 
 namespace {
-// Sander's L2 stretch of the piece's map against each soup triangle's own
-// shape (its rest triangle), as eval/uvmetrics.py measures a map: the
-// piece's vertices are means of joined noisy corners, and a sliver's mean
-// triangle can differ from the soup's far more than the map does.
-double rest_stretch_l2(const PieceMesh& m, const std::vector<Vec2>& uv) {
+uint32_t find(std::vector<uint32_t>& parent, uint32_t x) {
+  while (parent[x] != x) x = parent[x] = parent[parent[x]];
+  return x;
+}
+}  // namespace
+
+double rest_stretch_l2(const std::vector<transfer::detail::RestTriangle>& rest,
+                       const std::vector<std::array<Vec2, 3>>& corners) {
   double sum_l2 = 0, a3 = 0, a2 = 0;
-  for (size_t j = 0; j < m.triangles.size(); ++j) {
-    const transfer::detail::RestTriangle& r = m.rest[j];
+  for (size_t k = 0; k < rest.size(); ++k) {
+    const transfer::detail::RestTriangle& r = rest[k];
     if (!r.valid) continue;
-    const auto& t = m.triangles[j];
     const geometry::TriangleStretch s = geometry::triangle_stretch(
-        {Vec3{r.x[0].x, r.x[0].y, 0}, Vec3{r.x[1].x, r.x[1].y, 0}, Vec3{r.x[2].x, r.x[2].y, 0}},
-        {uv[t[0]], uv[t[1]], uv[t[2]]});
+        {Vec3{r.x[0].x, r.x[0].y, 0}, Vec3{r.x[1].x, r.x[1].y, 0}, Vec3{r.x[2].x, r.x[2].y, 0}}, corners[k]);
     sum_l2 += s.l2_squared * s.area3d;
     a3 += s.area3d;
     a2 += std::max(0.0, s.area_uv);
@@ -31,12 +32,6 @@ double rest_stretch_l2(const PieceMesh& m, const std::vector<Vec2>& uv) {
   if (a3 <= 0) return 1;
   return std::sqrt(sum_l2 / a3) * std::sqrt(a2 / a3);
 }
-
-uint32_t find(std::vector<uint32_t>& parent, uint32_t x) {
-  while (parent[x] != x) x = parent[x] = parent[parent[x]];
-  return x;
-}
-}  // namespace
 
 PieceMesh piece_mesh(const Soup& soup, double uv_per_length, const std::vector<uint32_t>& tris, const UvLayout& L,
                      const std::vector<uint32_t>* vertex_of) {
@@ -189,13 +184,17 @@ Outcome flatten(const PieceMesh& m, const std::vector<uint32_t>& tris, double ce
     if (uv.empty() || !transfer::detail::slim_relax(m.triangles, m.rest, fixed, uv, so).started)
       return Outcome::flip;
   }
-  if (rest_stretch_l2(m, uv) > max_stretch) return Outcome::stretch;
+  // The stretch against each soup triangle's own shape (its rest
+  // triangle): the piece's vertices are means of joined noisy corners, and
+  // a sliver's mean triangle can differ from the soup's far more than the
+  // map does.
   std::vector<std::array<Vec2, 3>> corners(tris.size());
   double area = 0;
   for (size_t j = 0; j < tris.size(); ++j) {
     for (int k = 0; k < 3; ++k) corners[j][k] = uv[m.triangles[j][k]];
     area += 0.5 * std::abs(cross(corners[j][1] - corners[j][0], corners[j][2] - corners[j][0]));
   }
+  if (rest_stretch_l2(m.rest, corners) > max_stretch) return Outcome::stretch;
   if (double(overlap_samples(corners, cell)) > kLapShare * area / (cell * cell)) {
     out.tris = tris;
     out.corner = m.triangles;

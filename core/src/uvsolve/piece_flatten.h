@@ -64,4 +64,11 @@ bool flattenable(const atlas::ChartMesh& chart);
 Outcome flatten(const PieceMesh& mesh, const std::vector<uint32_t>& tris, double cell, double max_stretch,
                 int solve_iterations, Piece& out);
 
+// Sander's L2 stretch of triangles' UV corners against their soup
+// triangles' own shapes (rest[k] and corners[k]; invalid rest triangles are
+// skipped), normalised as eval/uvmetrics.py normalises a map: the budget
+// flatten() and the attachment (attach_islands.h) check.
+double rest_stretch_l2(const std::vector<transfer::detail::RestTriangle>& rest,
+                       const std::vector<std::array<Vec2, 3>>& corners);
+
 }  // namespace soupuv::uvsolve::detail

@@ -24,11 +24,13 @@ size_t orient_islands(const Soup& soup, UvLayout& L) {
   return size_t(std::count_if(orientation.begin(), orientation.end(), [](double o) { return o < 0; }));
 }
 
+bool is_folded(double uv_area, double rest_area, double collapse_ratio) {
+  if (rest_area == 0) return uv_area < 0;
+  return !(uv_area > collapse_ratio * rest_area);
+}
+
 bool is_folded(const Soup& soup, double uv_per_length, double collapse_ratio, const UvLayout& L, size_t t) {
-  const double a = 0.5 * signed_area2(L, t);
-  const double rest = triangle_area(soup, t) * uv_per_length * uv_per_length;
-  if (rest == 0) return a < 0;
-  return !(a > collapse_ratio * rest);
+  return is_folded(0.5 * signed_area2(L, t), triangle_area(soup, t) * uv_per_length * uv_per_length, collapse_ratio);
 }
 
 namespace {

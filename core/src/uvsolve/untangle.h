@@ -35,6 +35,8 @@ size_t orient_islands(const Soup& soup, UvLayout& layout);
 // degenerate 3D triangle only when flipped).
 bool is_folded(const Soup& soup, double uv_per_length, double collapse_ratio, const UvLayout& layout,
                size_t t);
+// The same test on a triangle's signed UV area and its rest area (UV units).
+bool is_folded(double uv_area, double rest_area, double collapse_ratio);
 
 // The same ARAP iterations on one island (its triangles), in place; false
 // if the solve failed (the layout is then unchanged).
