@@ -112,8 +112,9 @@ AttachFigures attach_small_islands(const Soup& soup, const std::vector<geometry:
   AttachFigures f;
   const size_t n = L.corner_vertex.size();
   if (!(max_area > 0) || n == 0 || L.island_count < 2) return f;
-  double uv_area = 0;
-  for (size_t t = 0; t < n; ++t) uv_area += 0.5 * std::abs(signed_area2(L, t));
+  std::vector<double> area(L.island_count, 0);
+  for (uint32_t t = 0; t < n; ++t) area[L.island[t]] += 0.5 * std::abs(signed_area2(L, t));
+  const double uv_area = std::accumulate(area.begin(), area.end(), 0.0);
   if (!(uv_area > 0)) return f;
   // Cells of about two mean triangles a side: a query touches a few cells.
   IslandGrid grid(2 * std::sqrt(uv_area / double(n)));
@@ -128,8 +129,6 @@ AttachFigures attach_small_islands(const Soup& soup, const std::vector<geometry:
   };
   const PairsByTriangle by_triangle(pairs, n);
 
-  std::vector<double> area(L.island_count, 0);
-  for (uint32_t t = 0; t < n; ++t) area[L.island[t]] += 0.5 * std::abs(signed_area2(L, t));
   std::vector<uint32_t> order;
   for (uint32_t i = 0; i < L.island_count; ++i)
     if (!members[i].empty() && members[i].size() <= kMaxTriangles && area[i] <= max_area) order.push_back(i);
