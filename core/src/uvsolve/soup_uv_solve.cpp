@@ -151,6 +151,7 @@ SoupUvResult solve_soup_uvs(const Soup& soup, const geometry::Weld& weld,
         options.solve_iterations, options.merge_attempts_per_island, options.threads, layout);
     d["union_merge"] = {{"attempts", uf2.attempts},
                         {"joined", uf2.joined},
+                        {"repeated", uf2.repeated},
                         {"islands", layout.island_count},
                         {"kept_pairs", kept_pairs(pairs, layout)},
                         {"seconds", since(t_um)}};

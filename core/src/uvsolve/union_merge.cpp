@@ -1,7 +1,9 @@
 #include "uvsolve/union_merge.h"
 
 #include <algorithm>
+#include <array>
 #include <numeric>
+#include <set>
 
 #include <omp.h>
 
@@ -73,7 +75,18 @@ UnionMergeFigures merge_by_reflattening(const Soup& soup, double uv_per_length,
     uint32_t i, j;  // j: the smaller, joined into i
     std::vector<uint32_t> tris;
     bool kept = false;
+    bool refused_before = false;  // the same two islands, unchanged, were refused
     Piece piece;
+  };
+  // Refusals by the two islands and their versions (joins so far): a seam
+  // between islands already refused as they are now gets the same answer
+  // (several seams of one island often lead to the same neighbour), so it
+  // is counted as tried but not flattened again.
+  std::vector<uint32_t> version(L.island_count, 0);
+  std::set<std::array<uint32_t, 4>> refused;
+  auto refusal_key = [&](uint32_t i, uint32_t j) {
+    if (i > j) std::swap(i, j);
+    return std::array<uint32_t, 4>{i, j, version[i], version[j]};
   };
   std::vector<uint8_t> busy(L.island_count, 0);
   std::vector<uint32_t> busy_list;
@@ -99,7 +112,8 @@ UnionMergeFigures merge_by_reflattening(const Soup& soup, double uv_per_length,
       flattened += size;
       ++f.attempts;
       if (members[i].size() < members[j].size()) std::swap(i, j);
-      batch.push_back({i, j, {}, false, {}});
+      batch.push_back({i, j, {}, false, refused.count(refusal_key(i, j)) > 0, {}});
+      f.repeated += batch.back().refused_before;
       block(i), block(j);
     }
     later.insert(later.end(), pending.begin() + k, pending.end());
@@ -111,6 +125,7 @@ UnionMergeFigures merge_by_reflattening(const Soup& soup, double uv_per_length,
 #pragma omp parallel for schedule(dynamic, 1) num_threads(team)
     for (size_t b = 0; b < batch.size(); ++b) {
       Attempt& a = batch[b];
+      if (a.refused_before) continue;
       std::vector<uint32_t>& join = vertex_of[size_t(omp_get_thread_num())];
       // Close the seam: the smaller island's shared corners take the larger's vertices.
       std::vector<uint32_t> touched;
@@ -137,8 +152,10 @@ UnionMergeFigures merge_by_reflattening(const Soup& soup, double uv_per_length,
     for (Attempt& a : batch) {
       if (!a.kept) {
         ++attempts[a.i], ++attempts[a.j];  // only refusals count: a join may be followed by more
+        refused.insert(refusal_key(a.i, a.j));
         continue;
       }
+      ++version[a.i];
       ++f.joined;
       const uint32_t base = uint32_t(L.uv.size());
       L.uv.insert(L.uv.end(), a.piece.uv.begin(), a.piece.uv.end());

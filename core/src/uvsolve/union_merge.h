@@ -15,7 +15,9 @@
 //         folds and the overlaps cut lie between islands whose shapes would
 //         flatten together but whose current maps do not.
 // Cost  : per attempt one flattening of the union; attempts on disjoint
-//         islands run on `threads` threads.
+//         islands run on `threads` threads. An attempt on two islands
+//         refused before, neither changed since, is answered from that
+//         refusal (it counts as tried, so the result is the same).
 #pragma once
 
 #include <cstddef>
@@ -29,6 +31,7 @@ namespace soupuv::uvsolve::detail {
 struct UnionMergeFigures {
   size_t attempts = 0;
   size_t joined = 0;
+  size_t repeated = 0;  // attempts on two islands refused before as they are: not flattened again
 };
 
 UnionMergeFigures merge_by_reflattening(const Soup& soup, double uv_per_length,
