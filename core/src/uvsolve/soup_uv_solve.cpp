@@ -171,7 +171,7 @@ SoupUvResult solve_soup_uvs(const Soup& soup, const geometry::Weld& weld,
                           {"islands", layout.island_count},
                           {"kept_pairs", kept_pairs(pairs, layout)}};
   if (mf.joined > 0) {
-        const detail::SolveFigures again =
+    const detail::SolveFigures again =
         detail::solve_islands(soup, uv_per_length, options.solve_iterations, options.threads, layout);
     const detail::OverlapSplitFigures resplit = detail::split_overlaps(cell, options.threads, layout);
     merge["solve_energy_after"] = again.energy_after;
