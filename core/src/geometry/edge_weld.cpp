@@ -19,8 +19,8 @@
 //         never a surface. An edge needs both ends to agree, so a wrong
 //         partner must be close at both ends, which is much rarer.
 // Cost  : O(n) expected (uniform hash grid, corner_grid.h), plus sorting the
-//         candidate pairs; the two passes over the candidates run on the
-//         OpenMP threads.
+//         candidate pairs; the pass over the candidates runs on the OpenMP
+//         threads.
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -86,8 +86,7 @@ Weld weld_by_edges(const Soup& soup, double tolerance, double ambiguity_ratio, b
   const double tol2 = tolerance * tolerance;
   // Every candidate pair (edge, other edge running back within the
   // tolerance at both ends) whose edge lies in [e0, e1), each listed once.
-  // `admit(cost, edge, other)` may refuse a pair before its overlap test.
-  auto for_each_candidate = [&](uint32_t e0, uint32_t e1, auto&& admit, auto&& f) {
+  auto for_each_candidate = [&](uint32_t e0, uint32_t e1, auto&& f) {
     for (uint32_t e = e0; e < e1; ++e) {
       const Vec3 p = pos(e), q = pos(next(e));
       grid.for_each_near(q, [&](uint32_t c, const Vec3& at) {  // c lies near q
@@ -100,18 +99,17 @@ Weld weld_by_edges(const Soup& soup, double tolerance, double ambiguity_ratio, b
         // prev(c) -> c (a flipped neighbour).
         if (e < c) {
           const double back = norm2(pos(next(c)) - p);
-          if (back <= tol2 && admit(dq + back, e, c) && !overlaps(e, c)) f(EdgeMatch{dq + back, e, c, false});
+          if (back <= tol2 && !overlaps(e, c)) f(EdgeMatch{dq + back, e, c, false});
         }
         if (flipped_neighbours && e < prev(c)) {
           const double forward = norm2(pos(prev(c)) - p);
-          if (forward <= tol2 && admit(dq + forward, e, prev(c)) && !overlaps(e, prev(c)))
+          if (forward <= tol2 && !overlaps(e, prev(c)))
             f(EdgeMatch{dq + forward, e, prev(c), true});
         }
       });
     }
   };
-  auto any = [](double, uint32_t, uint32_t) { return true; };
-  // Both passes over the candidates split the edges over the threads, in
+  // The pass over the candidates splits the edges over the threads, in
   // contiguous ranges (thread order is edge order).
   const int threads = std::max(1, omp_get_max_threads());
   auto range = [&](int i, int of) { return uint32_t(uint64_t(corners) * uint64_t(i) / uint64_t(of)); };
@@ -120,8 +118,17 @@ Weld weld_by_edges(const Soup& soup, double tolerance, double ambiguity_ratio, b
   // (rows of a strip finer than the noise): leave it unmatched rather than
   // guess, since a wrong weld costs more than a missing one. Each thread
   // keeps its own two least costs per edge; the merge is exact (the two
-  // least of the union).
+  // least of the union). Only a clear winner can ever be matched, and a
+  // pair that is not one among the pairs seen so far never becomes one
+  // (the least costs only fall): each thread keeps just the pairs that are
+  // clear winners when found, and the merged costs sift those (on a noisy
+  // 124k scan the full list held tens of millions of pairs; finding them
+  // all a second time was half the weld).
+  auto clear_winner = [&](double cost, uint32_t edge, uint32_t other, const std::vector<double>& second) {
+    return ambiguity_ratio * cost <= second[edge] && ambiguity_ratio * cost <= second[other];
+  };
   std::vector<std::vector<double>> best_of(threads), second_of(threads);
+  std::vector<std::vector<EdgeMatch>> kept(threads);
 #pragma omp parallel num_threads(threads)
   {
     const int me = omp_get_thread_num(), of = omp_get_num_threads();
@@ -133,8 +140,11 @@ Weld weld_by_edges(const Soup& soup, double tolerance, double ambiguity_ratio, b
       if (cost < best[e]) { second[e] = best[e]; best[e] = cost; }
       else if (cost < second[e]) second[e] = cost;
     };
-    for_each_candidate(range(me, of), range(me + 1, of), any,
-                       [&](const EdgeMatch& m) { note(m.edge, m.cost); note(m.other, m.cost); });
+    for_each_candidate(range(me, of), range(me + 1, of), [&](const EdgeMatch& m) {
+      note(m.edge, m.cost);
+      note(m.other, m.cost);
+      if (clear_winner(m.cost, m.edge, m.other, second)) kept[me].push_back(m);
+    });
   }
   std::vector<double>& best = best_of[0];
   std::vector<double>& second = second_of[0];
@@ -148,24 +158,11 @@ Weld weld_by_edges(const Soup& soup, double tolerance, double ambiguity_ratio, b
     best_of[t] = {};
     second_of[t] = {};
   }
-  auto clear_winner = [&](double cost, uint32_t edge, uint32_t other) {
-    return ambiguity_ratio * cost <= second[edge] && ambiguity_ratio * cost <= second[other];
-  };
-  // Only a clear winner can ever be matched: keep just those (on a noisy
-  // 124k scan the full list held tens of millions of pairs, and sorting it
-  // was most of the weld's 26 s). The matching below is unchanged: it
-  // skipped every other candidate without touching its state.
-  std::vector<std::vector<EdgeMatch>> kept(threads);
-#pragma omp parallel num_threads(threads)
-  {
-    const int me = omp_get_thread_num(), of = omp_get_num_threads();
-    // The winner test first: it is cheaper than the overlap test and
-    // refuses most pairs.
-    for_each_candidate(range(me, of), range(me + 1, of), clear_winner,
-                       [&](const EdgeMatch& m) { kept[me].push_back(m); });
-  }
   std::vector<EdgeMatch> candidates;
-  for (auto& k : kept) candidates.insert(candidates.end(), k.begin(), k.end());
+  for (auto& k : kept)
+    for (const EdgeMatch& m : k)
+      if (clear_winner(m.cost, m.edge, m.other, second)) candidates.push_back(m);
+  kept = {};
   std::sort(candidates.begin(), candidates.end(), [](const EdgeMatch& a, const EdgeMatch& b) {
     return a.cost != b.cost ? a.cost < b.cost : (a.edge != b.edge ? a.edge < b.edge : a.other < b.other);
   });
