@@ -157,6 +157,8 @@ SlimResult slim_relax(const std::vector<std::array<uint32_t, 3>>& triangles,
   Eigen::VectorXd rhs(n);
   Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> solver;
   bool analysed = false;
+  std::vector<uint32_t> slot;           // triplet -> its entry in H
+  std::vector<uint8_t> first_in_slot;  // the first triplet of its entry
   std::vector<Vec2> target(uv.size()), step(uv.size());
 
   double current = result.energy_before;
@@ -209,10 +211,28 @@ SlimResult slim_relax(const std::vector<std::array<uint32_t, 3>>& triangles,
       rhs[2 * i] += lambda * uv[v].x;
       rhs[2 * i + 1] += lambda * uv[v].y;
     }
-    H.setFromTriplets(triplets.begin(), triplets.end());
+    // The triplets come in the same order with the same positions every
+    // iteration (only their values change): the first assembly records each
+    // one's slot in H, and later ones write the values straight there, as
+    // setFromTriplets would (a duplicate's first value, then the others
+    // added in order), without its sort and copies.
     if (!analysed) {
+      H.setFromTriplets(triplets.begin(), triplets.end());
+      slot.resize(triplets.size());
+      first_in_slot.assign(triplets.size(), 0);
+      std::vector<uint8_t> seen(size_t(H.nonZeros()), 0);
+      for (size_t k = 0; k < triplets.size(); ++k) {
+        const auto* inner = H.innerIndexPtr();
+        const auto b = H.outerIndexPtr()[triplets[k].col()], e = H.outerIndexPtr()[triplets[k].col() + 1];
+        slot[k] = uint32_t(std::lower_bound(inner + b, inner + e, triplets[k].row()) - inner);
+        if (!seen[slot[k]]) seen[slot[k]] = first_in_slot[k] = 1;
+      }
       solver.analyzePattern(H);
       analysed = true;
+    } else {
+      double* value = H.valuePtr();
+      for (size_t k = 0; k < triplets.size(); ++k)
+        value[slot[k]] = first_in_slot[k] ? triplets[k].value() : value[slot[k]] + triplets[k].value();
     }
     solver.factorize(H);
     if (solver.info() != Eigen::Success) break;
