@@ -11,6 +11,8 @@
 #pragma once
 
 #include <cstddef>
+#include <cstdint>
+#include <vector>
 
 #include "uvsolve/uv_layout.h"
 
@@ -21,9 +23,16 @@ struct SolveFigures {
   size_t unstarted_islands = 0;  // islands whose start was not flip-free (left as they were)
   double energy_before = 0, energy_after = 0;  // sum over islands, per unit rest area
   int max_iterations_used = 0;
+  size_t kept_for_laps = 0;  // islands left as they were: the solve made them lap (lap_cell > 0)
 };
 
+// `selected` (per island; null: all): only those islands are solved.
+// `lap_cell` > 0: an island whose image covers more overlap samples
+// (overlap_split.h, this spacing) after the solve than before keeps its
+// UVs (the solve lowers distortion; it must not make the laps the split
+// would then cut).
 SolveFigures solve_islands(const Soup& soup, double uv_per_length, int max_iterations, int threads,
-                           UvLayout& layout);
+                           UvLayout& layout, const std::vector<uint8_t>* selected = nullptr,
+                           double lap_cell = 0);
 
 }  // namespace soupuv::uvsolve::detail

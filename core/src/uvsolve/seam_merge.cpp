@@ -35,6 +35,7 @@ SeamMergeFigures merge_seams(const Soup& soup, const std::vector<geometry::Adjac
   const PairsByTriangle by_triangle(pairs, L.corner_vertex.size());
 
   UnionFind merged(L.island_count);
+  std::vector<uint8_t> grew(L.island_count, 0);  // the island a join kept
   for (const auto& entry : order) {
     if (f.attempts >= max_attempts) break;
     uint32_t A = merged.find(entry.second.first), B = merged.find(entry.second.second);
@@ -149,6 +150,7 @@ SeamMergeFigures merge_seams(const Soup& soup, const std::vector<geometry::Adjac
       continue;
     }
     ++f.joined;
+    grew[A] = 1;
     for (uint32_t t : islands[B]) L.island[t] = A;
     islands[A] = std::move(joined);
     islands[B].clear();
@@ -156,6 +158,7 @@ SeamMergeFigures merge_seams(const Soup& soup, const std::vector<geometry::Adjac
     // unite() keeps the smaller id as the root: keep the triangle lists there.
     const uint32_t root = merged.find(A);
     if (root != A) {
+      grew[root] = 1;
       islands[root] = std::move(islands[A]);
       islands[A].clear();
       for (uint32_t t : islands[root]) L.island[t] = root;
@@ -168,6 +171,9 @@ SeamMergeFigures merge_seams(const Soup& soup, const std::vector<geometry::Adjac
     if (number[i] == UINT32_MAX) number[i] = count++;
     i = number[i];
   }
+  f.joined_island.assign(count, 0);
+  for (uint32_t i = 0; i < grew.size(); ++i)
+    if (grew[i] && number[i] != UINT32_MAX) f.joined_island[number[i]] = 1;
   L.island_count = count;
   return f;
 }

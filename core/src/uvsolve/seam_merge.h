@@ -18,6 +18,7 @@
 #pragma once
 
 #include <cstddef>
+#include <cstdint>
 #include <vector>
 
 #include "soupuv/geometry/weld.h"
@@ -29,6 +30,7 @@ struct SeamMergeFigures {
   size_t attempts = 0;
   size_t joined = 0;
   size_t refused_fold = 0, refused_overlap = 0;
+  std::vector<uint8_t> joined_island;  // per island after the merge: 1 if a join made it
 };
 
 SeamMergeFigures merge_seams(const Soup& soup, const std::vector<geometry::AdjacentPair>& pairs,

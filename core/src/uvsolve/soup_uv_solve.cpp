@@ -171,8 +171,8 @@ SoupUvResult solve_soup_uvs(const Soup& soup, const geometry::Weld& weld,
                           {"islands", layout.island_count},
                           {"kept_pairs", kept_pairs(pairs, layout)}};
   if (mf.joined > 0) {
-    const detail::SolveFigures again =
-        detail::solve_islands(soup, uv_per_length, options.solve_iterations, options.threads, layout);
+    const detail::SolveFigures again = detail::solve_islands(soup, uv_per_length, options.solve_iterations,
+                                                             options.threads, layout, &mf.joined_island, cell);
     const detail::OverlapSplitFigures resplit = detail::split_overlaps(cell, options.threads, layout);
     merge["solve_energy_after"] = again.energy_after;
     merge["resplit_pieces"] = resplit.pieces_added;
