@@ -175,6 +175,7 @@ SoupUvResult solve_soup_uvs(const Soup& soup, const geometry::Weld& weld,
                                                              options.threads, layout, &mf.joined_island, cell);
     const detail::OverlapSplitFigures resplit = detail::split_overlaps(cell, options.threads, layout);
     merge["solve_energy_after"] = again.energy_after;
+    merge["solve_kept_for_laps"] = again.kept_for_laps;
     merge["resplit_pieces"] = resplit.pieces_added;
     merge["kept_pairs_after_resplit"] = kept_pairs(pairs, layout);
   }
