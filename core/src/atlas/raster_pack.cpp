@@ -21,6 +21,12 @@ constexpr int kPackingsWithoutFit = 40;
 // Charts from which one chart's turns are searched in parallel.
 constexpr int kParallelTurnsMin = 64;
 
+// Charts of at least this share of the total area are placed by the pilot
+// rule (RasterPackOptions::pilot_charts), each looking this many large
+// charts ahead.
+constexpr double kPilotShare = 0.01;
+constexpr int kPilotLookahead = 3;
+
 // Occupancy of a strip of texels, per row as signed run lengths: run > 0
 // means that many free texels from here rightward, run < 0 that many
 // occupied. widest(y) is the longest free run of row y, so rows that cannot
@@ -28,15 +34,25 @@ constexpr int kParallelTurnsMin = 64;
 class RowRuns {
  public:
   RowRuns(int width, int height)
-      : width_(width), height_(height), run_(static_cast<size_t>(width) * height), widest_(height) {}
+      : width_(width), height_(height), dirty_(height), run_(static_cast<size_t>(width) * height), widest_(height) {}
   int width() const { return width_; }
   int height() const { return height_; }
+  // All free again (only the rows filled since the last reset are touched).
   void reset() {
-    for (int y = 0; y < height_; ++y) {
+    for (int y = 0; y < dirty_; ++y) {
       int16_t* row = &run_[static_cast<size_t>(y) * width_];
       for (int x = 0; x < width_; ++x) row[x] = static_cast<int16_t>(width_ - x);
       widest_[y] = width_;
     }
+    dirty_ = 0;
+  }
+  // The same occupancy as `other` (same size), copying only rows either
+  // has filled.
+  void assign(const RowRuns& other) {
+    const int rows = std::max(dirty_, other.dirty_);
+    std::copy(other.run_.begin(), other.run_.begin() + static_cast<size_t>(rows) * width_, run_.begin());
+    std::copy(other.widest_.begin(), other.widest_.begin() + rows, widest_.begin());
+    dirty_ = other.dirty_;
   }
   int run(int x, int y) const { return run_[static_cast<size_t>(y) * width_ + x]; }
   int widest(int y) const { return widest_[y]; }
@@ -46,6 +62,7 @@ class RowRuns {
     a = std::max(a, 0);
     b = std::min(b, width_ - 1);
     if (a > b) return;
+    dirty_ = std::max(dirty_, y + 1);
     int16_t* row = &run_[static_cast<size_t>(y) * width_];
     for (int x = b; x >= a; --x) row[x] = static_cast<int16_t>(x + 1 < width_ && row[x + 1] < 0 ? row[x + 1] - 1 : -1);
     // Leftward, each run depends only on its right neighbour: stop at the
@@ -64,6 +81,7 @@ class RowRuns {
 
  private:
   int width_, height_;
+  int dirty_;  // rows below this may have been filled since the last reset
   std::vector<int16_t> run_;
   std::vector<int> widest_;
 };
@@ -144,6 +162,17 @@ struct Placed {
   Spot at;
 };
 
+// Marks mask m placed at `at` occupied, grown by the padding: a later
+// chart's own texels that miss these keep the padding from this one.
+// `grown`: the mask dilated by pad.
+void occupy_grown(RowRuns& occ, const RowMask& grown, Spot at, int pad) {
+  for (int r = 0; r < grown.height; ++r)
+    for (int j = grown.first[r]; j < grown.first[r + 1]; ++j)
+      occ.fill(at.y - pad + r, at.x - pad + grown.spans[j].a, at.x - pad + grown.spans[j].b);
+}
+
+void occupy(RowRuns& occ, const RowMask& m, Spot at, int pad) { occupy_grown(occ, dilate(m, pad), at, pad); }
+
 }  // namespace
 
 RasterPackResult raster_pack(std::vector<PackChart>& charts, int texture_size, double padding_px,
@@ -193,6 +222,87 @@ RasterPackResult raster_pack(std::vector<PackChart>& charts, int texture_size, d
   std::vector<RowMask> masks(static_cast<size_t>(n) * options.angles);
   std::vector<uint8_t> too_big(masks.size(), 0);
   std::vector<Placed> placed(n), best;
+  // The greedy's place for chart i on `strip`: the least score y + w *
+  // height over its turns, ties to the lower turn (the main loop's rule).
+  auto greedy_place = [&](const RowRuns& strip, int i, double height_weight) {
+    Placed p{-1, {}};
+    double best_score = INFINITY;
+    for (int k = 0; k < options.angles; ++k) {
+      if (too_big[static_cast<size_t>(i) * options.angles + k]) continue;
+      const RowMask& m = masks[static_cast<size_t>(i) * options.angles + k];
+      const double slack = best_score - height_weight * m.height;
+      const int y_limit = std::isinf(best_score) ? strip.height() : static_cast<int>(std::ceil(slack)) - 1;
+      if (y_limit < 0) continue;
+      const Spot s = first_fit(strip, m, row_needs(m), y_limit);
+      if (s.x < 0) continue;
+      best_score = s.y + height_weight * m.height;
+      p = {k, s};
+    }
+    return p;
+  };
+  // The pilot rule for the largest charts (those of at least kPilotShare of
+  // the area, at most options.pilot_charts, in the packing's order): the
+  // rows a packing uses are mostly set by where its few largest charts
+  // stack, which the greedy decides one chart at a time. Each of those
+  // charts instead takes, among its turns at their first-fit places, the
+  // one after which the greedy places the remaining large charts lowest
+  // (the rows they use; ties to the greedy's own pick). The picks go to
+  // `placed`; returns how many charts were placed so.
+  RowRuns prefix_occ(options.pilot_charts > 0 ? side : 0, options.pilot_charts > 0 ? 2 * side : 0);
+  RowRuns trial_occ = prefix_occ;
+  auto pilot = [&](const std::vector<int>& order, double height_weight) {
+    int count = 0;
+    while (count < std::min<int>(options.pilot_charts, int(order.size())) &&
+           area[order[count]] >= kPilotShare * total_area)
+      ++count;
+    if (count < 2) return 0;
+    auto mask_of = [&](int i, int turn) -> const RowMask& {
+      return masks[static_cast<size_t>(i) * options.angles + turn];
+    };
+    // The large charts' masks grown by the padding, each made once.
+    std::vector<RowMask> grown(static_cast<size_t>(count) * options.angles);
+    std::vector<uint8_t> has_grown(grown.size(), 0);
+    auto grown_of = [&](int j, int turn) -> const RowMask& {
+      const size_t g = static_cast<size_t>(j) * options.angles + turn;
+      if (!has_grown[g]) grown[g] = dilate(mask_of(order[j], turn), pad), has_grown[g] = 1;
+      return grown[g];
+    };
+    prefix_occ.reset();  // the large charts decided so far
+    for (int j = 0; j < count; ++j) {
+      const int i = order[j];
+      const Placed greedy = greedy_place(prefix_occ, i, height_weight);
+      if (greedy.turn < 0) return j;
+      Placed pick = greedy;
+      long long pick_rows = LLONG_MAX;
+      for (int k = 0; k < options.angles; ++k) {
+        if (too_big[static_cast<size_t>(i) * options.angles + k]) continue;
+        const RowMask& m = mask_of(i, k);
+        const Spot s = k == greedy.turn ? greedy.at : first_fit(prefix_occ, m, row_needs(m), prefix_occ.height());
+        if (s.x < 0) continue;
+        long long rows = s.y + m.height;
+        if (j + 1 < count) {
+          trial_occ.assign(prefix_occ);
+          occupy_grown(trial_occ, grown_of(j, k), s, pad);
+          for (int q = j + 1; q < std::min(count, j + 1 + kPilotLookahead); ++q) {
+            const Placed p = greedy_place(trial_occ, order[q], height_weight);
+            if (p.turn < 0) {
+              rows = LLONG_MAX;
+              break;
+            }
+            occupy_grown(trial_occ, grown_of(q, p.turn), p.at, pad);
+            rows = std::max<long long>(rows, p.at.y + mask_of(order[q], p.turn).height);
+          }
+        }
+        if (rows < pick_rows || (rows == pick_rows && k == greedy.turn)) {
+          pick_rows = rows;
+          pick = {k, s};
+        }
+      }
+      placed[i] = pick;
+      occupy_grown(prefix_occ, grown_of(j, pick.turn), pick.at, pad);
+    }
+    return count;
+  };
   auto pack_at = [&](double scale, const std::vector<int>& order, double height_weight) {
     ++result.attempts;
     reshape(scale);
@@ -226,6 +336,14 @@ RasterPackResult raster_pack(std::vector<PackChart>& charts, int texture_size, d
     int used = 0;
     bool failed = false;
     const int angles = options.angles;
+    // The largest charts, placed by the pilot rule (options.pilot_charts).
+    const int piloted = pilot(order, height_weight);
+    for (int o = 0; o < piloted; ++o) {
+      const int i = order[o];
+      const RowMask& m = masks[static_cast<size_t>(i) * angles + placed[i].turn];
+      occupy(occ, m, placed[i].at, pad);
+      used = std::max(used, placed[i].at.y + m.height);
+    }
     // The turns of one chart are searched by all threads at once (turn k by
     // thread k mod threads), each keeping its own best; the best of those is
     // the same pick as one thread's: the least score, ties to the lower turn
@@ -235,7 +353,7 @@ RasterPackResult raster_pack(std::vector<PackChart>& charts, int texture_size, d
     std::vector<Placed> best_of(team);
     std::vector<double> score_of(team);
 #pragma omp parallel num_threads(team)
-    for (size_t o = 0; o < order.size() && !failed; ++o) {
+    for (size_t o = size_t(piloted); o < order.size() && !failed; ++o) {
       const int i = order[o];
       const int me = omp_get_thread_num(), threads = omp_get_num_threads();
       // Each turn is searched only below the best score this thread has
@@ -276,12 +394,7 @@ RasterPackResult raster_pack(std::vector<PackChart>& charts, int texture_size, d
           const RowMask& m = masks[static_cast<size_t>(i) * angles + best_of[pick].turn];
           const Spot s = best_of[pick].at;
           placed[i] = best_of[pick];
-          // Stored dilated by the padding: a later chart's own texels that
-          // miss these keep the padding from this one.
-          RowMask grown = dilate(m, pad);
-          for (int r = 0; r < grown.height; ++r)
-            for (int j = grown.first[r]; j < grown.first[r + 1]; ++j)
-              occ.fill(s.y - pad + r, s.x - pad + grown.spans[j].a, s.x - pad + grown.spans[j].b);
+          occupy(occ, m, s, pad);
           used = std::max(used, s.y + m.height);
         }
       }

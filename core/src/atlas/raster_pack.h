@@ -25,6 +25,9 @@
 // bracket between the largest scale that fit and the smallest that did not
 // shrinks until `precision`. Four greedy variants (two orders, two w) each
 // try to beat the best scale so far; the largest scale that fit wins.
+// With pilot_charts, the few largest charts, which decide how high a
+// packing stacks, are each given the turn after which the greedy places
+// the remaining large ones lowest, before the greedy places the rest.
 #pragma once
 
 #include <cstdint>
@@ -40,6 +43,11 @@ struct RasterPackOptions {
   double precision = 1.003;  // stop when the scale bracket is this narrow
   int max_packings = 9;      // packings the first variant's scale search may spend
   int variant_packings = 3;  // and each further variant
+
+  // The largest charts (at most this many, each at least 1 % of the area)
+  // are placed by a pilot rule instead of the greedy's: each takes the turn
+  // after which the greedy stacks the remaining large charts lowest. 0: off.
+  int pilot_charts = 0;
 
   int threads = 1;
 

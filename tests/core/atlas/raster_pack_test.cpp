@@ -103,61 +103,106 @@ TEST(ChartRaster, DilationIsChebyshevNeighbourhood) {
 
 // Random star charts (fan triangulated) packed by the bitmap packer: inside
 // the square, and every two charts' outlines at least the padding apart.
-TEST(RasterPack, KeepsPaddingBetweenExactOutlines) {
-  std::mt19937 rng(11);
-  const int n = 30, texture = 256;
-  const double padding = 3;
-  std::vector<std::vector<Vec2>> uv(n);
-  std::vector<std::vector<std::array<int, 3>>> tris(n);
-  std::vector<std::vector<int>> outline(n);
+// Random star-shaped charts as fans (an interior centre vertex), sized in
+// [0.2, 1.2) x `scale`, the first `large` of them 4x larger.
+struct Stars {
+  std::vector<std::vector<Vec2>> uv;
+  std::vector<std::vector<std::array<int, 3>>> tris;
+  std::vector<std::vector<int>> outline;
+  std::vector<PackChart> charts() {
+    std::vector<PackChart> c;
+    for (size_t i = 0; i < uv.size(); ++i) c.push_back({&uv[i], &tris[i], &outline[i]});
+    return c;
+  }
+};
+
+Stars stars(int n, int large, unsigned seed) {
+  std::mt19937 rng(seed);
+  Stars s;
+  s.uv.resize(n);
+  s.tris.resize(n);
+  s.outline.resize(n);
   for (int c = 0; c < n; ++c) {
-    double size = 0.2 + std::uniform_real_distribution<double>(0, 1)(rng);
+    double size = (c < large ? 4 : 1) * (0.2 + std::uniform_real_distribution<double>(0, 1)(rng));
     int k = 6 + c % 9;
-    uv[c] = star(rng, {0, 0}, 0.4 * size, size, k);
-    uv[c].push_back({0, 0});  // fan centre: an interior vertex, not on the outline
+    s.uv[c] = star(rng, {0, 0}, 0.4 * size, size, k);
+    s.uv[c].push_back({0, 0});  // fan centre: an interior vertex, not on the outline
     for (int i = 0; i < k; ++i) {
-      tris[c].push_back({k, i, (i + 1) % k});
-      outline[c].push_back(i);
+      s.tris[c].push_back({k, i, (i + 1) % k});
+      s.outline[c].push_back(i);
     }
   }
-  std::vector<PackChart> charts;
-  for (int c = 0; c < n; ++c) charts.push_back({&uv[c], &tris[c], &outline[c]});
-  RasterPackOptions options;
-  options.angles = 8;
-  RasterPackResult r = raster_pack(charts, texture, padding, 0, options);
-  ASSERT_GT(r.scale, 0);
+  return s;
+}
+
+// Every chart inside [0,1]^2, not mirrored, its outline at least `padding`
+// texels from every other's and not nested in it; returns the UV area.
+double expect_packed_apart(const Stars& s, int texture, double padding) {
+  const size_t n = s.uv.size();
   double area = 0;
-  for (int c = 0; c < n; ++c) {
-    for (const Vec2& p : uv[c]) {
+  for (size_t c = 0; c < n; ++c) {
+    for (const Vec2& p : s.uv[c]) {
       EXPECT_GE(p.x, 0);
       EXPECT_LE(p.x, 1);
       EXPECT_GE(p.y, 0);
       EXPECT_LE(p.y, 1);
     }
-    for (const auto& t : tris[c]) {
-      double a = 0.5 * cross(uv[c][t[1]] - uv[c][t[0]], uv[c][t[2]] - uv[c][t[0]]);
+    for (const auto& t : s.tris[c]) {
+      double a = 0.5 * cross(s.uv[c][t[1]] - s.uv[c][t[0]], s.uv[c][t[2]] - s.uv[c][t[0]]);
       EXPECT_GT(a, 0) << "a turn mirrored chart " << c;
       area += std::fabs(a);
     }
   }
   double closest = INFINITY;
-  for (int a = 0; a < n; ++a)
-    for (int b = a + 1; b < n; ++b) {
-      const auto& oa = outline[a];
-      const auto& ob = outline[b];
+  for (size_t a = 0; a < n; ++a)
+    for (size_t b = a + 1; b < n; ++b) {
+      const auto& oa = s.outline[a];
+      const auto& ob = s.outline[b];
       for (size_t i = 0; i < oa.size(); ++i)
         for (size_t j = 0; j < ob.size(); ++j)
-          closest = std::min(closest, segment_distance(uv[a][oa[i]], uv[a][oa[(i + 1) % oa.size()]],
-                                                       uv[b][ob[j]], uv[b][ob[(j + 1) % ob.size()]]));
+          closest = std::min(closest, segment_distance(s.uv[a][oa[i]], s.uv[a][oa[(i + 1) % oa.size()]],
+                                                       s.uv[b][ob[j]], s.uv[b][ob[(j + 1) % ob.size()]]));
       // Disjoint outlines could still nest: test one vertex of each inside the other.
       std::vector<Vec2> pa, pb;
-      for (int v : oa) pa.push_back(uv[a][v]);
-      for (int v : ob) pb.push_back(uv[b][v]);
+      for (int v : oa) pa.push_back(s.uv[a][v]);
+      for (int v : ob) pb.push_back(s.uv[b][v]);
       EXPECT_FALSE(inside(pa, pb[0]) || inside(pb, pa[0])) << a << " and " << b << " nest";
     }
   EXPECT_GE(closest * texture, padding - 1e-9);
+  return area;
+}
+
+TEST(RasterPack, KeepsPaddingBetweenExactOutlines) {
+  const int texture = 256;
+  const double padding = 3;
+  Stars s = stars(30, 0, 11);
+  std::vector<PackChart> charts = s.charts();
+  RasterPackOptions options;
+  options.angles = 8;
+  RasterPackResult r = raster_pack(charts, texture, padding, 0, options);
+  ASSERT_GT(r.scale, 0);
+  const double area = expect_packed_apart(s, texture, padding);
   std::printf("30 stars at 256 px, 3 px padding: utilisation %.3f, %d packings\n", area, r.attempts);
   EXPECT_GT(area, 0.3);  // a packer that spread charts out would pass the gap test
+}
+
+TEST(RasterPack, PilotedLargeChartsKeepThePadding) {
+  // Five large charts among 60: the pilot rule places the large ones, the
+  // greedy the rest; the layout must be as sound as the greedy's.
+  const int texture = 256;
+  const double padding = 2;
+  Stars s = stars(60, 5, 7);
+  std::vector<PackChart> charts = s.charts();
+  RasterPackOptions options;
+  options.angles = 8;
+  options.max_packings = 4;
+  options.variant_packings = 0;
+  options.pilot_charts = 8;
+  RasterPackResult r = raster_pack(charts, texture, padding, 0, options);
+  ASSERT_GT(r.scale, 0);
+  const double area = expect_packed_apart(s, texture, padding);
+  std::printf("60 stars (5 large) at 256 px, pilot: utilisation %.3f, %d packings\n", area, r.attempts);
+  EXPECT_GT(area, 0.3);
 }
 
 TEST(RasterPack, KeepsUvsWhenItCannotBeat) {
