@@ -245,9 +245,9 @@ RasterPackResult raster_pack(std::vector<PackChart>& charts, int texture_size, d
   // rows a packing uses are mostly set by where its few largest charts
   // stack, which the greedy decides one chart at a time. Each of those
   // charts instead takes, among its turns at their first-fit places, the
-  // one after which the greedy places the remaining large charts lowest
-  // (the rows they use; ties to the greedy's own pick). The picks go to
-  // `placed`; returns how many charts were placed so.
+  // one after which the greedy places the next kPilotLookahead large
+  // charts lowest (the rows they use; ties to the greedy's own pick). The
+  // picks go to `placed`; returns how many charts were placed so.
   RowRuns prefix_occ(options.pilot_charts > 0 ? side : 0, options.pilot_charts > 0 ? 2 * side : 0);
   RowRuns trial_occ = prefix_occ;
   auto pilot = [&](const std::vector<int>& order, double height_weight) {

@@ -27,7 +27,7 @@
 // try to beat the best scale so far; the largest scale that fit wins.
 // With pilot_charts, the few largest charts, which decide how high a
 // packing stacks, are each given the turn after which the greedy places
-// the remaining large ones lowest, before the greedy places the rest.
+// the next three large ones lowest, before the greedy places the rest.
 #pragma once
 
 #include <cstdint>
@@ -46,7 +46,7 @@ struct RasterPackOptions {
 
   // The largest charts (at most this many, each at least 1 % of the area)
   // are placed by a pilot rule instead of the greedy's: each takes the turn
-  // after which the greedy stacks the remaining large charts lowest. 0: off.
+  // after which the greedy stacks the next three large charts lowest. 0: off.
   int pilot_charts = 0;
 
   int threads = 1;
