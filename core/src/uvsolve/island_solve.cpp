@@ -3,7 +3,6 @@
 #include <omp.h>
 
 #include <algorithm>
-#include <numeric>
 
 #include "transfer/slim.h"
 #include "uvsolve/overlap_split.h"
