@@ -50,6 +50,34 @@ bool interiors_overlap(const Corners& p, const Corners& q) {
   return !separated_by_an_edge_of(p, q) && !separated_by_an_edge_of(q, p);
 }
 
+// Area of the intersection of two triangles (either orientation): the
+// first clipped by the second's three edges (Sutherland-Hodgman).
+double overlap_area(Corners p, Corners q) {
+  auto ccw = [](Corners& c) {
+    if (cross(c[1] - c[0], c[2] - c[0]) < 0) std::swap(c[1], c[2]);
+  };
+  ccw(p), ccw(q);
+  Vec2 poly[9], next[9];
+  int m = 3;
+  for (int c = 0; c < 3; ++c) poly[c] = p[c];
+  for (int k = 0; k < 3 && m > 0; ++k) {
+    const Vec2 a = q[k], e = q[(k + 1) % 3] - q[k];
+    auto side = [&](Vec2 x) { return cross(e, x - a); };
+    int o = 0;
+    for (int i = 0; i < m; ++i) {
+      const Vec2 u = poly[i], v = poly[(i + 1) % m];
+      const double su = side(u), sv = side(v);
+      if (su >= 0) next[o++] = u;
+      if ((su >= 0) != (sv >= 0)) next[o++] = u + (su / (su - sv)) * (v - u);
+    }
+    m = o;
+    for (int i = 0; i < m; ++i) poly[i] = next[i];
+  }
+  double a2 = 0;
+  for (int i = 1; i + 1 < m; ++i) a2 += cross(poly[i] - poly[0], poly[i + 1] - poly[0]);
+  return 0.5 * std::abs(a2);
+}
+
 // The layout's triangles in a uniform grid, per island; an island's
 // triangles are found from the cells a query box touches.
 class IslandGrid {
@@ -108,7 +136,7 @@ Corners corners_of(const UvLayout& L, uint32_t t) {
 
 AttachFigures attach_small_islands(const Soup& soup, const std::vector<geometry::AdjacentPair>& pairs,
                                    double uv_per_length, double collapse_ratio, double max_stretch,
-                                   double max_area, UvLayout& L) {
+                                   double max_area, double max_lap_area, UvLayout& L) {
   AttachFigures f;
   const size_t n = L.corner_vertex.size();
   if (!(max_area > 0) || n == 0 || L.island_count < 2) return f;
@@ -200,10 +228,13 @@ AttachFigures attach_small_islands(const Soup& soup, const std::vector<geometry:
         return false;
       }
       bool overlaps = false;
+      double lapped = 0;  // area over the host's triangles so far
       for (size_t k = 0; k < mine.size() && !overlaps; ++k) {
         for (size_t l = k + 1; l < mine.size() && !overlaps; ++l) overlaps = interiors_overlap(moved[k], moved[l]);
         overlaps = overlaps || grid.any_near(h, moved[k], [&](uint32_t u) {
-                     return find(L.island[u]) == h && interiors_overlap(moved[k], corners_of(L, u));
+                     if (find(L.island[u]) != h || !interiors_overlap(moved[k], corners_of(L, u))) return false;
+                     lapped += overlap_area(moved[k], corners_of(L, u));
+                     return !(lapped <= max_lap_area);
                    });
       }
       if (overlaps) {
@@ -220,6 +251,10 @@ AttachFigures attach_small_islands(const Soup& soup, const std::vector<geometry:
       for (size_t k = 0; k < mine.size(); ++k)
         for (int c = 0; c < 3; ++c) L.uv[L.corner_vertex[mine[k]][c]] = moved[k][c];
       host[j] = h;
+      if (lapped > 0) {
+        ++f.attached_with_lap;
+        f.lapped_area += lapped;
+      }
       for (uint32_t t : mine) grid.insert(h, t, corners_of(L, t));
       members[h].insert(members[h].end(), mine.begin(), mine.end());
       members[j].clear();

@@ -193,13 +193,16 @@ SoupUvResult solve_soup_uvs(const Soup& soup, const geometry::Weld& weld,
   const double small_side = options.padding_px / (std::sqrt(2.0) - 1) * full_texel;
   const detail::AttachFigures af = detail::attach_small_islands(
       soup, pairs, uv_per_length, options.collapse_ratio, options.reembed_max_stretch,
-      options.attach_small_islands ? small_side * small_side : 0, layout);
+      options.attach_small_islands ? small_side * small_side : 0,
+      options.attach_max_lap_texels * full_texel * full_texel, layout);
   d["attach"] = {{"candidates", af.candidates},
                  {"attempts", af.attempts},
                  {"attached", af.attached},
                  {"refused_fold", af.refused_fold},
                  {"refused_stretch", af.refused_stretch},
                  {"refused_overlap", af.refused_overlap},
+                 {"attached_with_lap", af.attached_with_lap},
+                 {"lapped_texels", full_texel > 0 ? af.lapped_area / (full_texel * full_texel) : 0.0},
                  {"islands", layout.island_count},
                  {"kept_pairs", kept_pairs(pairs, layout)},
                  {"seconds", since(t_attach)}};

@@ -59,8 +59,23 @@ FanAndWedge fan_and_wedge(double wedge_end) {
 
 // The fan (area 2.17) is never small here; the wedge (0.32 at 340 degrees,
 // 0.49 at 380) is below the limits the tests pass, unless said otherwise.
-uvsolve::detail::AttachFigures attach(FanAndWedge& f, double max_area) {
-  return uvsolve::detail::attach_small_islands(f.soup, f.pairs, 1.0, 0.05, 1.25, max_area, f.layout);
+uvsolve::detail::AttachFigures attach(FanAndWedge& f, double max_area, double max_lap_area = 0) {
+  return uvsolve::detail::attach_small_islands(f.soup, f.pairs, 1.0, 0.05, 1.25, max_area, max_lap_area,
+                                               f.layout);
+}
+
+// Nearly the area the wedge to `wedge_end` degrees (> 360) laps over the
+// fan's first triangle: the part of the wedge above the x axis, the
+// triangle between the origin, the point at wedge_end and where the
+// wedge's far edge (300 degrees to wedge_end) crosses the x axis. The fan's
+// chord from 0 to 60 degrees clips a sliver of it off.
+double wedge_lap(double wedge_end) {
+  const Vec3 a = on_circle(300), b = on_circle(wedge_end);
+  const double s = -a.y / (b.y - a.y);  // a + s (b - a) is on the x axis
+  const double x = a.x + s * (b.x - a.x);
+  const Vec3 c = on_circle(wedge_end);
+  // The lap is the part of the wedge above the x axis: origin, (x, 0), c.
+  return 0.5 * x * c.y;
 }
 
 TEST(AttachIslands, SmallIslandJoinsItsNeighbourAlongTheWeldedEdge) {
@@ -89,6 +104,26 @@ TEST(AttachIslands, IslandThatWouldLapOverItsNeighbourStaysApart) {
   EXPECT_EQ(figures.refused_overlap, figures.attempts);
   EXPECT_EQ(f.layout.island_count, 2u);
   EXPECT_EQ(f.layout.corner_vertex[5][0], 7u);
+}
+
+TEST(AttachIslands, SliverLapWithinTheBudgetJoinsAndLargerStaysApart) {
+  // Past 360 degrees by 3: the wedge laps the fan's first triangle by a
+  // sliver (~0.025 of the wedge's 0.43).
+  const double lap = wedge_lap(363);
+  ASSERT_GT(lap, 0);
+  {
+    FanAndWedge f = fan_and_wedge(363);
+    const auto figures = attach(f, 1.0, 0.9 * lap);
+    EXPECT_EQ(figures.attached, 0u);
+    EXPECT_EQ(f.layout.island_count, 2u);
+  }
+  FanAndWedge f = fan_and_wedge(363);
+  const auto figures = attach(f, 1.0, 1.1 * lap);
+  EXPECT_EQ(figures.attached, 1u);
+  EXPECT_EQ(figures.attached_with_lap, 1u);
+  EXPECT_LE(figures.lapped_area, lap);
+  EXPECT_GT(figures.lapped_area, 0.95 * lap);
+  EXPECT_EQ(f.layout.island_count, 1u);
 }
 
 TEST(AttachIslands, IslandAboveTheAreaLimitStaysApart) {

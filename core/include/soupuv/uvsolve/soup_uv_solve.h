@@ -30,7 +30,8 @@
 //            again.
 //         6. Attach (attach_islands.h): islands smaller than their own
 //            padding are moved rigidly onto a neighbouring island across a
-//            welded edge where that folds, laps and stretches nothing.
+//            welded edge where that folds and stretches nothing and laps
+//            less than a quarter texel.
 //         7. Pack (pack_islands.h): the bitmap packer at one density.
 // Cost  : O(n log n) besides the solve's sparse factorisations.
 #pragma once
@@ -68,9 +69,13 @@ struct SoupUvOptions {
   bool reembed = true;
   double reembed_max_stretch = 1.25;
   // Islands whose padding would take more texels than they do are attached
-  // rigidly to a neighbouring island where that folds, laps and stretches
-  // nothing (attach_islands.h). Off: each keeps its own padding.
+  // rigidly to a neighbouring island where that folds and stretches
+  // nothing and laps it by at most attach_max_lap_texels (attach_islands.h;
+  // in texels of the full square, the finest the packing can reach: a
+  // quarter texel is below what a bake at the texture's size resolves).
+  // Off: each keeps its own padding.
   bool attach_small_islands = true;
+  double attach_max_lap_texels = 0.25;
   int threads = 1;
 };
 
