@@ -6,6 +6,7 @@
 
 #include "atlas/pack.h"
 #include "atlas/raster_pack.h"
+#include "uvsolve/nest_rows.h"
 #include "soupuv/errors.h"
 
 namespace soupuv::uvsolve::detail {
@@ -31,12 +32,14 @@ struct Unit {
   std::vector<std::array<int, 2>> boundary;
 };
 
-// Small islands packed as one unit: rows of islands side by side, each
-// island's vertices a range of the unit's, moved by `shift` from the
-// island's own frame (its box's corner at the origin).
+// Small islands packed as one unit: rows of islands nested side by side
+// (nest_rows.h), each island's vertices and triangles a range of the
+// unit's, moved by `shift` from the island's own frame (its box's corner at
+// the origin).
 struct GroupMember {
   Vec2 size;
   uint32_t first, count;
+  uint32_t first_tri, tri_count;
   Vec2 shift;
 };
 struct Group {
@@ -44,17 +47,33 @@ struct Group {
   std::vector<std::vector<GroupMember>> rows;
 };
 
-// Places a group's rows `gap` apart, and its islands `gap` apart in a row.
+// A member's triangles in its own frame.
+void member_triangles(const Unit& unit, const GroupMember& m, std::vector<RowTriangle>& out) {
+  out.clear();
+  for (uint32_t t = m.first_tri; t < m.first_tri + m.tri_count; ++t) {
+    const auto& tri = unit.tris[t];
+    out.push_back({unit.uv[tri[0]] - m.shift, unit.uv[tri[1]] - m.shift, unit.uv[tri[2]] - m.shift});
+  }
+}
+
+// Lays out a group's rows `gap` apart, its islands nested `gap` apart in
+// a row (nest_rows.h). Rows are not nested into each other: the islands
+// lie with a flat side along the row's bottom or top, so a row's top and
+// the next one's bottom are mostly flat against flat (docs/tuning.md).
 void lay_out_rows(Group& g, double gap, std::vector<Unit>& units) {
   Unit& unit = units[g.unit];
+  std::vector<RowTriangle> tris;
   double y = 0;
   for (auto& row : g.rows) {
-    double x = 0, row_height = 0;
+    RowNester nest(gap);
+    double row_height = 0;
     for (GroupMember& m : row) {
+      member_triangles(unit, m, tris);
+      const double x = nest.shift_for(tris.data(), tris.size());
+      nest.add(tris.data(), tris.size(), m.size.x, x);
       const Vec2 shift{x, y};
       for (uint32_t v = m.first; v < m.first + m.count; ++v) unit.uv[v] = unit.uv[v] - m.shift + shift;
       m.shift = shift;
-      x += m.size.x + gap;
       row_height = std::max(row_height, m.size.y);
     }
     y += row_height + gap;
@@ -179,22 +198,46 @@ PackFigures pack_islands(const UvLayout& L, int texture_size, double padding_px,
                    [&](uint32_t a, uint32_t b) { return hi[a].y - lo[a].y > hi[b].y - lo[b].y; });
   size_t grouped = 0;
   std::vector<Group> groups;
+  std::vector<RowTriangle> tris, turned;
   for (size_t at = 0; at < order.size();) {
     units.emplace_back();
     Unit& unit = units.back();
     groups.push_back({uint32_t(units.size() - 1), {}});
     for (int row = 0; row < 8 && at < order.size(); ++row) {
       groups.back().rows.emplace_back();
-      double x = 0;
+      RowNester nest(fill_gap);
       while (at < order.size()) {
         const uint32_t i = order[at];
         const Vec2 size = hi[i] - lo[i];
-        if (x > 0 && x + size.x > row_width) break;
-        const uint32_t first = uint32_t(unit.uv.size());
+        const uint32_t first = uint32_t(unit.uv.size()), first_tri = uint32_t(unit.tris.size());
+        const size_t first_boundary = unit.boundary.size();
         append_island(L, islands[i], -1.0 * lo[i], unit, local, corner_slot, axis[i]);
-        groups.back().rows.back().push_back({size, first, uint32_t(unit.uv.size() - first), Vec2{0, 0}});
+        GroupMember m{size, first, uint32_t(unit.uv.size() - first), first_tri,
+                      uint32_t(unit.tris.size() - first_tri), Vec2{0, 0}};
+        // As it is, or turned by 180 degrees within its box where that
+        // nests closer to the island before it.
+        member_triangles(unit, m, tris);
+        turned = tris;
+        for (RowTriangle& t : turned)
+          for (Vec2& p : t) p = size - p;
+        double x = nest.shift_for(tris.data(), tris.size());
+        const double x_turned = nest.shift_for(turned.data(), turned.size());
+        const bool turn = x_turned < x;
+        if (turn) {
+          x = x_turned;
+          for (uint32_t v = first; v < first + m.count; ++v) unit.uv[v] = size - unit.uv[v];
+          tris.swap(turned);
+        }
+        if (x > 0 && x + size.x > row_width) {
+          // The row is full: the island opens the next (or the next group).
+          unit.uv.resize(first);
+          unit.tris.resize(first_tri);
+          unit.boundary.resize(first_boundary);
+          break;
+        }
+        nest.add(tris.data(), tris.size(), size.x, x);
+        groups.back().rows.back().push_back(m);
         for (uint32_t t : islands[i]) unit_of_triangle[t] = uint32_t(units.size() - 1);
-        x += size.x + fill_gap;
         ++at;
         ++grouped;
       }

@@ -2,10 +2,12 @@
 // with the project's bitmap packer (atlas/raster_pack.h) at one texel
 // density: islands are rasterised from their boundary edges (they need not
 // be disks), turned, and placed so they never overlap and keep the padding.
-// When there are many, all but the 128 largest (unless longer than half a
-// row of 1/8 the square's side) are first put side by side in rows, with a gap that keeps the padding at
-// any scale the packer can reach, and each group is packed as one piece:
-// the packer's cost grows with the pieces, not their size.
+// When there are more than 4,096, all but the 2,048 largest (unless longer
+// than half a row of 1/8 the square's side) are first put side by side in
+// rows, nested (nest_rows.h: each turned by 180 degrees where it sits
+// closer), with a gap that keeps the padding at any scale the packer tries,
+// and each group of 8 rows is packed as one piece: the packer's cost grows
+// with the pieces, not their size.
 //
 // Input : the layout, the texture size and padding in texels, threads.
 // Output: per soup triangle its corner UVs in [0,1]^2 and the packing's
