@@ -9,6 +9,7 @@
 #include <omp.h>
 
 #include "atlas/chart_raster.h"
+#include "atlas/pack.h"
 #include "atlas/turn_chart.h"
 
 namespace soupuv::atlas {
@@ -200,12 +201,27 @@ RasterPackResult raster_pack(std::vector<PackChart>& charts, int texture_size, d
   std::vector<double> area(n, 0);
   double total_area = 0;
   for (int i = 0; i < n; ++i) {
-    for (int k = 0; k < options.angles; ++k) turns[i].push_back(turn_chart(*charts[i].uv, 2 * M_PI * k / options.angles));
     const auto& uv = *charts[i].uv;
     for (const auto& t : *charts[i].triangles) area[i] += 0.5 * std::fabs(cross(uv[t[1]] - uv[t[0]], uv[t[2]] - uv[t[0]]));
     total_area += area[i];
   }
   if (!(total_area > 0)) return result;
+  // Small charts try a few quarter turns from the pose with their
+  // minimal-area rectangle's axis along x (RasterPackOptions::
+  // small_chart_share): their first turn is that pose.
+  const int quarter = options.angles / 4;
+  std::vector<uint8_t> small(n, 0);
+  std::vector<double> pose(n, 0);
+  for (int i = 0; i < n; ++i) {
+    small[i] = options.small_chart_angles > 0 && options.angles % 4 == 0 &&
+               area[i] < options.small_chart_share * total_area && !(options.elastic && (*options.elastic)[i]);
+    if (!small[i]) continue;
+    const Vec2 axis = min_area_rectangle(*charts[i].uv).axis;
+    pose[i] = -std::atan2(axis.y, axis.x);
+  }
+  for (int i = 0; i < n; ++i)
+    for (int k = 0; k < options.angles; ++k)
+      turns[i].push_back(turn_chart(*charts[i].uv, pose[i] + 2 * M_PI * k / options.angles));
   // Two orders: largest area first and longest side first.
   std::vector<int> by_area(n);
   std::iota(by_area.begin(), by_area.end(), 0);
@@ -220,6 +236,7 @@ RasterPackResult raster_pack(std::vector<PackChart>& charts, int texture_size, d
   // One packing at `scale`: the strip rows used, or INT_MAX if a chart found
   // no place in the strip.
   std::vector<RowMask> masks(static_cast<size_t>(n) * options.angles);
+  // Turns not rasterised: too big for the strip, or not tried (small charts).
   std::vector<uint8_t> too_big(masks.size(), 0);
   std::vector<Placed> placed(n), best;
   // The greedy's place for chart i on `strip`: the least score y + w *
@@ -319,6 +336,11 @@ RasterPackResult raster_pack(std::vector<PackChart>& charts, int texture_size, d
       const int i = job / options.angles, k = job % options.angles;
       const Turn& t = turns[i][k];
       too_big[job] = 0;
+      if (small[i] && !(k % quarter == 0 && k / quarter < options.small_chart_angles)) {
+        too_big[job] = 1;
+        masks[job] = {};
+        continue;
+      }
       if (charts[i].outline) {
         std::vector<Vec2> outline;
         outline.reserve(charts[i].outline->size());

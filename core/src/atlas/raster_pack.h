@@ -49,6 +49,13 @@ struct RasterPackOptions {
   // after which the greedy stacks the next three large charts lowest. 0: off.
   int pilot_charts = 0;
 
+  // Charts below this share of the total area try small_chart_angles
+  // quarter turns (at most 4; angles must be a multiple of 4) from the pose
+  // with their minimal-area rectangle's axis along x, instead of `angles`
+  // turns from their own pose. 0: every chart tries every turn.
+  double small_chart_share = 0;
+  int small_chart_angles = 0;
+
   int threads = 1;
 
   // Charts whose shape depends on the scale: before each packing, and

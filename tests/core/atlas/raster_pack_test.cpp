@@ -203,6 +203,39 @@ TEST(RasterPack, PilotedLargeChartsKeepThePadding) {
   EXPECT_GT(area, 0.3);
 }
 
+TEST(RasterPack, SmallChartsLieAlongTheirRectangle) {
+  // One large square and 40 small rectangles 4 x 1 turned by 20 degrees:
+  // with small_chart_angles the small ones try only their minimal-area
+  // rectangle's pose lying and standing, so each comes out with its sides
+  // along the axes (8 turns of 45 degrees from its own pose never would).
+  std::vector<std::vector<Vec2>> uvs;
+  std::vector<std::vector<std::array<int, 3>>> tris;
+  std::vector<std::vector<int>> outlines;
+  uvs.push_back({{0, 0}, {30, 0}, {30, 30}, {0, 30}});
+  const double a = 20 * M_PI / 180, c = std::cos(a), s = std::sin(a);
+  for (int k = 0; k < 40; ++k) {
+    std::vector<Vec2> r;
+    for (const Vec2& p : {Vec2{0, 0}, Vec2{4, 0}, Vec2{4, 1}, Vec2{0, 1}}) r.push_back({c * p.x - s * p.y, s * p.x + c * p.y});
+    uvs.push_back(r);
+  }
+  std::vector<PackChart> charts;
+  for (size_t i = 0; i < uvs.size(); ++i) {
+    tris.push_back({{0, 1, 2}, {0, 2, 3}});
+    outlines.push_back({0, 1, 2, 3});
+  }
+  for (size_t i = 0; i < uvs.size(); ++i) charts.push_back({&uvs[i], &tris[i], &outlines[i]});
+  RasterPackOptions options;
+  options.angles = 8;
+  options.small_chart_share = 0.01;  // each rectangle is 4 / 1060 of the area
+  options.small_chart_angles = 2;
+  const RasterPackResult r = raster_pack(charts, 256, 2, 0, options);
+  ASSERT_GT(r.scale, 0);
+  for (size_t i = 1; i < uvs.size(); ++i) {
+    const Vec2 e = uvs[i][1] - uvs[i][0];
+    EXPECT_LT(std::min(std::fabs(e.x), std::fabs(e.y)), 1e-9 * norm(e)) << i;
+  }
+}
+
 TEST(RasterPack, KeepsUvsWhenItCannotBeat) {
   std::vector<Vec2> uv = {{0, 0}, {1, 0}, {0, 1}};
   std::vector<std::array<int, 3>> tri = {{0, 1, 2}};
