@@ -93,7 +93,11 @@ TEST(TraceTrapped, CrawlingLinesEndTrappedAndEscapingLinesStillEscape) {
       EXPECT_EQ(with.offsets[i + 1] - with.offsets[i], without.offsets[i + 1] - without.offsets[i]);
     }
   }
-  EXPECT_LE(lost, e0.escaped / 100);
+  // Lines that crawl trapped_steps and then escape are lost by design (their
+  // corners fall back to the closest point; the default trades them for the
+  // crawls saved, judged on whole maps in docs/tuning.md): a few percent,
+  // not a rule that ends escaping lines wholesale.
+  EXPECT_LE(lost, e0.escaped / 20);
   // Most step-limit lines are recognised, after trapped_steps steps or more.
   EXPECT_LT(e1.step_limit, e0.step_limit / 10);
   EXPECT_GT(st0.steps, st1.steps);
