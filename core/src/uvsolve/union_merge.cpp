@@ -1,6 +1,7 @@
 #include "uvsolve/union_merge.h"
 
 #include <algorithm>
+#include <cmath>
 #include <array>
 #include <numeric>
 #include <set>
@@ -12,8 +13,20 @@
 
 namespace soupuv::uvsolve::detail {
 namespace {
-// Attempts may flatten this many times the soup's triangles in all.
+// Attempts may flatten this many times the soup's triangles in all,
+// counted by flatten_cost.
 constexpr size_t kFlattenBudget = 8;
+// Above this many triangles a flattening costs more per triangle, about as
+// the square root of its size (the sparse factorisations fill in).
+constexpr double kFlattenCostKnee = 3000;
+
+// What a flattening of `size` triangles takes from the budget: its size,
+// times sqrt(size / kFlattenCostKnee) above the knee. Counting triangles
+// alone let a few-island map (stanford-bunny, 69k triangles) spend 30 s
+// on 21 unions of 35-70k triangles, four times its trace (docs/tuning.md).
+size_t flatten_cost(size_t size) {
+  return size_t(double(size) * std::max(1.0, std::sqrt(double(size) / kFlattenCostKnee)));
+}
 // Attempts flattened at once (a constant, so the result does not depend on
 // the thread count).
 constexpr size_t kBatch = 64;
@@ -108,8 +121,9 @@ UnionMergeFigures merge_by_reflattening(const Soup& soup, double uv_per_length,
       }
       if (i == j || attempts[i] >= attempts_per_island || attempts[j] >= attempts_per_island) continue;
       const size_t size = members[i].size() + members[j].size();
-      if (flattened + size > budget) continue;
-      flattened += size;
+      const size_t cost = flatten_cost(size);
+      if (flattened + cost > budget) continue;
+      flattened += cost;
       ++f.attempts;
       if (members[i].size() < members[j].size()) std::swap(i, j);
       batch.push_back({i, j, {}, false, refused.count(refusal_key(i, j)) > 0, {}});

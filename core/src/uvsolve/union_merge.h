@@ -14,10 +14,13 @@
 //         islands' existing maps already fit; most seams the transfer, the
 //         folds and the overlaps cut lie between islands whose shapes would
 //         flatten together but whose current maps do not.
-// Cost  : per attempt one flattening of the union; attempts on disjoint
-//         islands run on `threads` threads. An attempt on two islands
-//         refused before, neither changed since, is answered from that
-//         refusal (it counts as tried, so the result is the same).
+// Cost  : per attempt one flattening of the union, all of them within a
+//         budget of 8 times the soup's triangles (a union above 3,000
+//         triangles counted larger, as its flattening costs more per
+//         triangle); attempts on disjoint islands run on `threads`
+//         threads. An attempt on two islands refused before, neither
+//         changed since, is answered from that refusal (it counts as
+//         tried, so the result is the same).
 #pragma once
 
 #include <cstddef>
