@@ -165,6 +165,7 @@ AttachFigures attach_small_islands(const Soup& soup, const std::vector<geometry:
   std::unordered_map<uint32_t, uint32_t> snap;  // small island's vertex -> host's vertex
   std::vector<Corners> moved;
   std::vector<transfer::detail::RestTriangle> rest;
+  std::vector<uint32_t> lapped_by_k;  // host triangles a small triangle laps
   for (const uint32_t j : order) {
     if (find(j) != j) continue;  // attached to another already
     const std::vector<uint32_t>& mine = members[j];
@@ -231,8 +232,11 @@ AttachFigures attach_small_islands(const Soup& soup, const std::vector<geometry:
       double lapped = 0;  // area over the host's triangles so far
       for (size_t k = 0; k < mine.size() && !overlaps; ++k) {
         for (size_t l = k + 1; l < mine.size() && !overlaps; ++l) overlaps = interiors_overlap(moved[k], moved[l]);
+        lapped_by_k.clear();  // the grid may offer a host triangle once per cell: count it once
         overlaps = overlaps || grid.any_near(h, moved[k], [&](uint32_t u) {
                      if (find(L.island[u]) != h || !interiors_overlap(moved[k], corners_of(L, u))) return false;
+                     if (std::find(lapped_by_k.begin(), lapped_by_k.end(), u) != lapped_by_k.end()) return false;
+                     lapped_by_k.push_back(u);
                      lapped += overlap_area(moved[k], corners_of(L, u));
                      return !(lapped <= max_lap_area);
                    });
