@@ -1,10 +1,12 @@
 #include "soupuv/uvsolve/soup_uv_solve.h"
 
 #include <chrono>
+#include <algorithm>
 #include <cmath>
 
 #include "uvsolve/attach_islands.h"
 #include "uvsolve/fold_cut.h"
+#include "uvsolve/halve_island.h"
 #include "uvsolve/island_solve.h"
 #include "uvsolve/overlap_split.h"
 #include "uvsolve/pack_islands.h"
@@ -208,14 +210,51 @@ SoupUvResult solve_soup_uvs(const Soup& soup, const geometry::Weld& weld,
                  {"seconds", since(t_attach)}};
 
   auto t4 = Clock::now();
-  const detail::PackFigures pf = detail::pack_islands(layout, options.texture_size, options.padding_px,
-                                                      options.threads, r.corner_uvs);
+  detail::PackFigures pf = detail::pack_islands(layout, options.texture_size, options.padding_px,
+                                                options.threads, r.corner_uvs);
+  nlohmann::json halving = nlohmann::json::array();
+  // Few large islands fill the square badly (two round blobs leave its
+  // corners empty): while the utilisation is below halving_below, the
+  // largest islands are halved along a straight UV line (halve_island.h)
+  // and everything packed again, as long as a round gains utilisation and
+  // keeps the share of welded pairs at or above halving_min_kept_pairs.
+  if (layout.island_count <= options.halving_max_islands) {
+    detail::UvLayout trial = layout;
+    for (int round = 0; round < options.halving_rounds && pf.utilisation < options.halving_below; ++round) {
+      const auto islands = detail::island_triangles(trial);
+      std::vector<double> area(islands.size(), 0);
+      for (size_t i = 0; i < islands.size(); ++i)
+        for (uint32_t t : islands[i]) area[i] += 0.5 * std::abs(detail::signed_area2(trial, t));
+      const double largest = *std::max_element(area.begin(), area.end());
+      size_t halved = 0;
+      for (size_t i = 0; i < islands.size(); ++i)
+        if (area[i] >= 0.5 * largest) halved += detail::halve_island(trial, uint32_t(i));
+      const double kept = kept_pairs(pairs, trial);
+      nlohmann::json j = {{"halved", halved}, {"kept_pairs", kept}};
+      if (halved == 0 || kept < options.halving_min_kept_pairs) {
+        halving.push_back(j);
+        break;
+      }
+      std::vector<std::array<Vec2, 3>> uvs;
+      const detail::PackFigures tf = detail::pack_islands(trial, options.texture_size, options.padding_px,
+                                                          options.threads, uvs);
+      j["utilisation"] = tf.utilisation;
+      j["kept"] = tf.utilisation > pf.utilisation;
+      halving.push_back(j);
+      if (!(tf.utilisation > pf.utilisation)) break;
+      pf = tf;
+      r.corner_uvs = std::move(uvs);
+      layout = trial;
+    }
+  }
   d["pack"] = {{"islands", layout.island_count},
                {"texels_per_uv", pf.texels_per_uv},
                {"utilisation", pf.utilisation},
                {"attempts", pf.attempts},
                {"units", pf.units},
                {"grouped_islands", pf.grouped_islands},
+               {"halving", halving},
+               {"kept_pairs", kept_pairs(pairs, layout)},
                {"seconds", since(t4)}};
   d["seconds"] = since(t0);
   progress.update("uv_solve", 1);

@@ -243,6 +243,46 @@ TEST(SoupUvSolve, ManyIslandsArePackedWithoutOverlapAndUseTheSquare) {
 }
 
 
+TEST(SoupUvSolve, TwoLargeDiscsAreHalvedToFillTheSquare) {
+  // Two flat discs of radius 14 cells: two equal circles fill at most
+  // 2 pi / (2 + sqrt 2)^2 = 0.54 of a square, their halves fill more.
+  Case c;
+  for (int k = 0; k < 2; ++k) {
+    const double x0 = 40.0 * k;
+    add_grid(c, 28, [x0](double u, double v) { return Vec3{x0 + u, v, 0}; },
+             [](double u, double v) { return Vec2{0.01 * u, 0.01 * v}; });
+  }
+  // Keep the cells whose centre lies in the disc (both triangles of a cell).
+  Case discs;
+  for (size_t t = 0; t < c.soup.triangles.size(); t += 2) {
+    const Vec3 a = c.soup.positions[c.soup.triangles[t][0]];
+    const double x = std::fmod(a.x, 40.0) + 0.5 - 14, y = a.y + 0.5 - 14;
+    if (x * x + y * y > 14.0 * 14.0) continue;
+    for (size_t s = t; s < t + 2; ++s) {
+      Tri tri;
+      for (int k = 0; k < 3; ++k) {
+        discs.soup.positions.push_back(c.soup.positions[c.soup.triangles[s][k]]);
+        tri[k] = uint32_t(discs.soup.positions.size() - 1);
+      }
+      discs.soup.triangles.push_back(tri);
+      discs.soup.origins.push_back({});
+      discs.uv.push_back(c.uv[s]);
+    }
+  }
+  // The second disc's map lies beside the first's (the packer moves them).
+  for (size_t t = 0; t < discs.uv.size(); ++t)
+    if (discs.soup.positions[discs.soup.triangles[t][0]].x >= 40)
+      for (Vec2& p : discs.uv[t]) p.x += 0.5;
+  const Solved s = solve(discs, 0.01);
+  expect_sound(discs, s.uv);
+  const quality::UvOverlap o = quality::uv_overlap(s.uv, std::vector<uint8_t>(s.uv.size(), 1));
+  EXPECT_GE(o.utilisation, 0.55) << s.diagnostics["pack"].dump();
+  size_t kept = 0;
+  for (const auto& p : s.pairs) kept += continuous(s.uv, p);
+  EXPECT_GE(double(kept) / double(s.pairs.size()), 0.95) << "halving keeps the continuity target";
+  EXPECT_GT(s.diagnostics["pack"]["islands"].get<int>(), 2) << s.diagnostics["pack"].dump();
+}
+
 double point_segment_distance(Vec2 p, Vec2 a, Vec2 b) {
   const Vec2 ab = b - a;
   const double len2 = dot(ab, ab);

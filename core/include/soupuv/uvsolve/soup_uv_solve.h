@@ -32,7 +32,10 @@
 //            padding are moved rigidly onto a neighbouring island across a
 //            welded edge where that folds and stretches nothing and laps
 //            less than a quarter texel.
-//         7. Pack (pack_islands.h): the bitmap packer at one density.
+//         7. Pack (pack_islands.h): the bitmap packer at one density. A
+//            map of a few large islands that packs poorly has its largest
+//            islands halved along straight UV lines (halve_island.h) and is
+//            packed again, where that gains and keeps the continuity target.
 // Cost  : O(n log n) besides the solve's sparse factorisations.
 #pragma once
 
@@ -76,6 +79,17 @@ struct SoupUvOptions {
   // Off: each keeps its own padding.
   bool attach_small_islands = true;
   double attach_max_lap_texels = 0.25;
+  // Maps of at most halving_max_islands islands packed below halving_below
+  // utilisation: up to halving_rounds times, the islands of at least half
+  // the largest one's area are halved (halve_island.h) and the map packed
+  // again; a round is kept while it raises the utilisation and leaves at
+  // least halving_min_kept_pairs of the welded pairs uncut (the product's
+  // continuity target: halving never trades it away). The bar and the
+  // island count are the atlas's for its charts (atlas/build_atlas.h).
+  uint32_t halving_max_islands = 64;
+  double halving_below = 0.72;
+  int halving_rounds = 2;
+  double halving_min_kept_pairs = 0.95;
   int threads = 1;
 };
 

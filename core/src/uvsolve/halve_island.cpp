@@ -1,0 +1,92 @@
+#include "uvsolve/halve_island.h"
+
+#include <algorithm>
+#include <cmath>
+#include <numeric>
+
+#include "atlas/pack.h"
+
+namespace soupuv::uvsolve::detail {
+
+bool halve_island(UvLayout& L, uint32_t island) {
+  std::vector<uint32_t> tris;
+  for (size_t t = 0; t < L.island.size(); ++t)
+    if (L.island[t] == island) tris.push_back(uint32_t(t));
+  const size_t n = tris.size();
+  if (n < 2) return false;
+  std::vector<Vec2> points;
+  points.reserve(3 * n);
+  for (uint32_t t : tris)
+    for (uint32_t v : L.corner_vertex[t]) points.push_back(L.uv[v]);
+  const atlas::MinRectangle rect = atlas::min_area_rectangle(points);
+  const Vec2 axis = rect.size.x >= rect.size.y ? rect.axis : Vec2{-rect.axis.y, rect.axis.x};
+
+  std::vector<double> along(n), area(n);
+  double total = 0;
+  for (size_t i = 0; i < n; ++i) {
+    const auto& v = L.corner_vertex[tris[i]];
+    along[i] = dot((L.uv[v[0]] + L.uv[v[1]] + L.uv[v[2]]) * (1.0 / 3), axis);
+    area[i] = 0.5 * std::abs(signed_area2(L, tris[i]));
+    total += area[i];
+  }
+  if (!(total > 0)) return false;
+  std::vector<uint32_t> order(n);
+  std::iota(order.begin(), order.end(), 0u);
+  std::sort(order.begin(), order.end(), [&](uint32_t a, uint32_t b) { return along[a] < along[b]; });
+  std::vector<uint8_t> side(n, 1);
+  double below = 0;
+  for (uint32_t i : order) {
+    if (below >= 0.5 * total) break;
+    side[i] = 0;
+    below += area[i];
+  }
+
+  // Each side as one piece: a side's smaller pieces join the other side
+  // (they touch the island only through it), twice, since a moved piece can
+  // join two of the other side's pieces.
+  std::vector<std::array<uint32_t, 3>> local(n);
+  for (size_t i = 0; i < n; ++i) local[i] = L.corner_vertex[tris[i]];
+  std::vector<uint32_t> component;
+  for (int pass = 0; pass < 2; ++pass)
+    for (uint8_t s = 0; s < 2; ++s) {
+      std::vector<uint8_t> active(n);
+      for (size_t i = 0; i < n; ++i) active[i] = side[i] == s;
+      const uint32_t pieces = edge_components(local, &active, component);
+      if (pieces <= 1) continue;
+      std::vector<double> piece_area(pieces, 0);
+      for (size_t i = 0; i < n; ++i)
+        if (active[i]) piece_area[component[i]] += area[i];
+      const uint32_t keep = uint32_t(std::max_element(piece_area.begin(), piece_area.end()) - piece_area.begin());
+      for (size_t i = 0; i < n; ++i)
+        if (active[i] && component[i] != keep) side[i] = 1 - s;
+    }
+  for (uint8_t s = 0; s < 2; ++s) {
+    std::vector<uint8_t> active(n);
+    for (size_t i = 0; i < n; ++i) active[i] = side[i] == s;
+    if (edge_components(local, &active, component) != 1) return false;
+  }
+
+  // Side 1 becomes a new island; its vertices shared with side 0 are copied.
+  std::vector<uint8_t> on_side0(L.uv.size(), 0);
+  for (size_t i = 0; i < n; ++i)
+    if (side[i] == 0)
+      for (uint32_t v : local[i]) on_side0[v] = 1;
+  std::vector<uint32_t> copy(L.uv.size(), UINT32_MAX);
+  const uint32_t fresh = L.island_count++;
+  for (size_t i = 0; i < n; ++i) {
+    if (side[i] == 0) continue;
+    const uint32_t t = tris[i];
+    L.island[t] = fresh;
+    for (uint32_t& v : L.corner_vertex[t]) {
+      if (!on_side0[v]) continue;
+      if (copy[v] == UINT32_MAX) {
+        copy[v] = uint32_t(L.uv.size());
+        L.uv.push_back(L.uv[v]);
+      }
+      v = copy[v];
+    }
+  }
+  return true;
+}
+
+}  // namespace soupuv::uvsolve::detail
