@@ -41,11 +41,44 @@ bool halve_island(UvLayout& L, uint32_t island) {
     below += area[i];
   }
 
+  // The line's cut through triangles by centroid zigzags across thin ones
+  // (noisy soups' slivers): a triangle with two or three edge neighbours on
+  // the other side goes there, which shortens the seam; a few passes.
+  std::vector<std::array<uint32_t, 3>> local(n);
+  for (size_t i = 0; i < n; ++i) local[i] = L.corner_vertex[tris[i]];
+  std::vector<std::array<uint32_t, 3>> neighbour(n, {UINT32_MAX, UINT32_MAX, UINT32_MAX});
+  {
+    std::vector<std::pair<uint64_t, uint32_t>> edges;
+    edges.reserve(3 * n);
+    for (size_t i = 0; i < n; ++i)
+      for (int k = 0; k < 3; ++k) {
+        const auto [a, b] = std::minmax(local[i][k], local[i][(k + 1) % 3]);
+        edges.push_back({(uint64_t(a) << 32) | b, uint32_t(3 * i + k)});
+      }
+    std::sort(edges.begin(), edges.end());
+    for (size_t e = 0; e + 1 < edges.size(); ++e)
+      if (edges[e].first == edges[e + 1].first && (e + 2 == edges.size() || edges[e + 2].first != edges[e].first)) {
+        const uint32_t x = edges[e].second, y = edges[e + 1].second;
+        neighbour[x / 3][x % 3] = y / 3;
+        neighbour[y / 3][y % 3] = x / 3;
+      }
+  }
+  for (int pass = 0; pass < 4; ++pass) {
+    bool moved = false;
+    for (size_t i = 0; i < n; ++i) {
+      int across = 0;
+      for (uint32_t j : neighbour[i]) across += j != UINT32_MAX && side[j] != side[i];
+      if (across >= 2) {
+        side[i] = 1 - side[i];
+        moved = true;
+      }
+    }
+    if (!moved) break;
+  }
+
   // Each side as one piece: a side's smaller pieces join the other side
   // (they touch the island only through it), twice, since a moved piece can
   // join two of the other side's pieces.
-  std::vector<std::array<uint32_t, 3>> local(n);
-  for (size_t i = 0; i < n; ++i) local[i] = L.corner_vertex[tris[i]];
   std::vector<uint32_t> component;
   for (int pass = 0; pass < 2; ++pass)
     for (uint8_t s = 0; s < 2; ++s) {
