@@ -100,6 +100,7 @@ void solve_krylov(const SourceGeometry& src, const ChargeOptions& o, Progress& p
     last_rmax = rmax;
     GmresOptions go;
     go.restart = 60;  // a restart forgets the slow modes; 60 vectors of n doubles are cheap next to the near matrix
+    go.stall_window = 20;  // a third of a cycle (docs/tuning.md, "GMRES stalls inside a cycle")
     if (split && outer == 0) {
       // The cheap far field is only ~5e-5 accurate (p = 4): iterate to about
       // that, and let the full mat-vec say what is left.
@@ -141,9 +142,9 @@ void solve_krylov(const SourceGeometry& src, const ChargeOptions& o, Progress& p
     for (size_t t = 0; t < n; ++t) res[t] = 1.0 - ax[t];
     if (d.stalled) {
       // A further outer step restarts the same stalled iteration.
-      r.warnings.push_back("krylov: GMRES stalled (a restart cycle of " + std::to_string(go.restart) +
-                           " vectors reduced the residual by less than " +
-                           std::to_string(int(std::round(100 * (1 - go.stall_ratio)))) + " %)");
+      r.warnings.push_back("krylov: GMRES stalled (its residual fell by less than " +
+                           std::to_string(int(std::round(100 * (1 - go.stall_ratio)))) + " % per " +
+                           std::to_string(go.restart) + " iterations)");
       break;
     }
   }

@@ -69,6 +69,11 @@ GmresResult gmres(const LinearMap& A, const LinearMap& Minv, const std::vector<d
     std::vector<std::vector<double>> Hraw(o.restart + 1, std::vector<double>(o.restart, 0.0));
     std::vector<double> cs(o.restart), sn(o.restart), g(o.restart + 1, 0.0);
     g[0] = beta;
+    // The estimate after each of this cycle's iterations, for the in-cycle
+    // stall test.
+    std::vector<double> cycle_estimate{beta / bnorm};
+    const double window_ratio =
+        o.stall_window > 0 ? std::pow(o.stall_ratio, double(o.stall_window) / o.restart) : 0;
     int k = 0;
     while (k < o.restart && out.iterations < o.max_iterations) {
       Minv(V[k], z);
@@ -97,6 +102,12 @@ GmresResult gmres(const LinearMap& A, const LinearMap& Minv, const std::vector<d
       out.estimate = std::fabs(g[k]) / bnorm;
       if (o.on_iteration && !o.on_iteration(out.estimate)) stop = true;
       if (stop || out.estimate <= o.rtol || !(hnext > 0)) break;
+      cycle_estimate.push_back(out.estimate);
+      if (o.stall_window > 0 && k >= o.stall_window && k < o.restart &&
+          out.estimate > window_ratio * cycle_estimate[k - o.stall_window]) {
+        out.stalled = true;
+        break;
+      }
       std::vector<double> next(n);
       for (size_t t = 0; t < n; ++t) next[t] = w[t] / hnext;
       V.push_back(std::move(next));
@@ -113,7 +124,7 @@ GmresResult gmres(const LinearMap& A, const LinearMap& Minv, const std::vector<d
       for (size_t t = 0; t < n; ++t) u[t] += y[i] * V[i][t];
     Minv(u, z);
     for (size_t t = 0; t < n; ++t) out.x[t] += z[t];
-    if (stop || out.estimate <= o.rtol || out.iterations >= o.max_iterations) break;
+    if (stop || out.stalled || out.estimate <= o.rtol || out.iterations >= o.max_iterations) break;
     if (o.max_norm_target > 0 && out.max_norm >= 0 && out.max_norm <= o.max_norm_target) break;
     if (k == o.restart && out.estimate > o.stall_ratio * (beta / bnorm)) {
       out.stalled = true;

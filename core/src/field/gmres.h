@@ -37,6 +37,12 @@ struct GmresOptions {
   // corpus) gained 10-30 % per 60-vector cycle without converging
   // (docs/tuning.md). 1: never.
   double stall_ratio = 0.5;
+  // The same test inside a cycle, over its last stall_window iterations
+  // (at the rate the cycle test asks for, stall_ratio^(window / restart)):
+  // a cycle that has stalled stops there instead of running its remaining
+  // vectors for nothing (bracket-exact's second cycle was flat from its
+  // first vector). 0: only whole cycles are tested.
+  int stall_window = 0;
   // Called after every iteration with the relative residual estimate; return
   // false to stop (time limit, cancel).
   std::function<bool(double)> on_iteration;
@@ -47,7 +53,7 @@ struct GmresResult {
   int iterations = 0;              // mat-vecs with A
   double estimate = 1;             // last relative residual estimate
   double max_norm = -1;            // last max-norm residual formed (-1: never formed)
-  bool stalled = false;            // stopped because a restart cycle stalled (stall_ratio)
+  bool stalled = false;            // stopped because a restart cycle stalled (stall_ratio, stall_window)
 };
 
 GmresResult gmres(const LinearMap& A, const LinearMap& Minv, const std::vector<double>& b, const GmresOptions& o);

@@ -81,6 +81,41 @@ TEST(Gmres, StopsWhenARestartCycleStalls) {
   EXPECT_GE(spent.iterations, o.max_iterations);
 }
 
+// The in-cycle test stops a cycle that is flat from its start after
+// stall_window iterations instead of its restart length; on a system that
+// converges steadily it never fires.
+TEST(Gmres, StopsInsideACycleThatStalls) {
+  const int n = 50;
+  LinearMap shift = [&](const std::vector<double>& v, std::vector<double>& out) {
+    out.resize(n);
+    for (int i = 0; i < n; ++i) out[(i + 1) % n] = v[i];
+  };
+  LinearMap identity = [](const std::vector<double>& v, std::vector<double>& out) { out = v; };
+  std::vector<double> b(n, 0.0);
+  b[0] = 1;
+  GmresOptions o;
+  o.rtol = 1e-8;
+  o.restart = 40;
+  o.stall_window = 10;
+  const GmresResult stalled = gmres(shift, identity, b, o);
+  EXPECT_TRUE(stalled.stalled);
+  EXPECT_EQ(stalled.iterations, o.stall_window);
+
+  // A diagonal system with eigenvalues spread over [1, 100]: slow but
+  // steady, each iteration gains a little; the window must not mistake it
+  // for a stall.
+  LinearMap spread = [&](const std::vector<double>& v, std::vector<double>& out) {
+    out.resize(n);
+    for (int i = 0; i < n; ++i) out[i] = (1.0 + 99.0 * i / (n - 1)) * v[i];
+  };
+  std::vector<double> ones(n, 1.0);
+  o.restart = 60;
+  o.stall_window = 20;
+  const GmresResult steady = gmres(spread, identity, ones, o);
+  EXPECT_FALSE(steady.stalled);
+  EXPECT_LE(steady.estimate, o.rtol);
+}
+
 TEST(Gmres, StopsOnTheMaxNormOfTheTrueResidual) {
   // The max-norm residual GMRES forms from the Arnoldi relation (no
   // mat-vec) must be the true one: after the stop, max |b - A x| by a dense
