@@ -12,6 +12,7 @@
 #include "uvsolve/pack_islands.h"
 #include "uvsolve/reembed.h"
 #include "uvsolve/seam_merge.h"
+#include "uvsolve/seam_smooth.h"
 #include "uvsolve/union_merge.h"
 #include "uvsolve/untangle.h"
 #include "uvsolve/uv_mesh.h"
@@ -208,6 +209,24 @@ SoupUvResult solve_soup_uvs(const Soup& soup, const geometry::Weld& weld,
                  {"islands", layout.island_count},
                  {"kept_pairs", kept_pairs(pairs, layout)},
                  {"seconds", since(t_attach)}};
+
+  // Triangles that zigzag across a seam join the island they are welded
+  // to on two or three edges.
+  if (options.smooth_seams) {
+    auto t_smooth = Clock::now();
+    const detail::SeamSmoothFigures sm = detail::smooth_seams(
+        soup, pairs, uv_per_length, options.collapse_ratio, options.reembed_max_stretch,
+        options.attach_max_lap_texels * full_texel * full_texel, layout);
+    d["seam_smooth"] = {{"candidates", sm.candidates},
+                        {"moved", sm.moved},
+                        {"refused_fold", sm.refused_fold},
+                        {"refused_stretch", sm.refused_stretch},
+                        {"refused_overlap", sm.refused_overlap},
+                        {"passes", sm.passes},
+                        {"islands", layout.island_count},
+                        {"kept_pairs", kept_pairs(pairs, layout)},
+                        {"seconds", since(t_smooth)}};
+  }
 
   auto t4 = Clock::now();
   detail::PackFigures pf = detail::pack_islands(layout, options.texture_size, options.padding_px,

@@ -31,7 +31,9 @@
 //         6. Attach (attach_islands.h): islands smaller than their own
 //            padding are moved rigidly onto a neighbouring island across a
 //            welded edge where that folds and stretches nothing and laps
-//            less than a quarter texel.
+//            less than a quarter texel. Triangles welded to another island
+//            on two or three edges join it where their image there is
+//            sound (seam_smooth.h: the seam's teeth).
 //         7. Pack (pack_islands.h): the bitmap packer at one density. A
 //            map of a few large islands that packs poorly has its largest
 //            islands halved along straight UV lines (halve_island.h) and is
@@ -79,6 +81,10 @@ struct SoupUvOptions {
   // Off: each keeps its own padding.
   bool attach_small_islands = true;
   double attach_max_lap_texels = 0.25;
+  // Triangles welded on two or three edges to another island join it where
+  // that folds and stretches nothing and laps within the same budget
+  // (seam_smooth.h). Off: every triangle stays where the steps above put it.
+  bool smooth_seams = true;
   // Maps of at most halving_max_islands islands packed below halving_below
   // utilisation: up to halving_rounds times, the islands of at least half
   // the largest one's area are halved (halve_island.h) and the map packed
