@@ -43,6 +43,7 @@ std::string trace_params(const FieldBranchOptions& b, const field::TraceOptions&
   w.put(o.max_turn_per_step), w.put(o.max_step_growth), w.put(o.direct), w.put(o.fmm_leaf_size);
   w.put(o.trapped_steps), w.put(b.orient_sides), w.put(b.share_lines);
   w.put(b.weld_tolerance), w.put(b.weld_edge_fraction), w.put(b.seed_edge_weld_tolerance), w.put(b.seed_edge_fraction);
+  w.put_string(geometry::kEdgeWeldAlgorithm);
   return key_part(std::move(w));
 }
 
@@ -119,6 +120,7 @@ void retrace(field::FieldLineTracer& tracer, const std::vector<field::TraceSeed>
 void trace_shared(const Soup& soup, const field::ChargeResult& charges,
                   const field::TraceOptions& trace_options, const FieldBranchOptions& options,
                   Progress& progress, FieldBranchResult& r) {
+  const auto t_weld = std::chrono::steady_clock::now();
   if (options.seed_edge_weld_tolerance > 0)
     r.seed_edge_weld = geometry::weld_by_edges(soup, options.seed_edge_weld_tolerance, 1.0, false);
   const geometry::Weld weld =
@@ -127,6 +129,7 @@ void trace_shared(const Soup& soup, const field::ChargeResult& charges,
                                  options.seed_edge_fraction > 0 ? options.seed_edge_fraction
                                                                 : options.weld_edge_fraction)
           : geometry::weld_corners(soup, options.weld_tolerance, options.weld_edge_fraction);
+  r.seconds_seed_weld = std::chrono::duration<double>(std::chrono::steady_clock::now() - t_weld).count();
   const auto adjacency = geometry::edge_adjacency(weld, soup.triangles.size());
   const field::Orientation orientation = field::consistent_orientation(soup, adjacency);
   SharedSeeds shared = shared_seeds(soup, weld, orientation);

@@ -91,6 +91,7 @@ struct FieldBranchResult {
   nlohmann::json orient;        // side choice
   nlohmann::json intersections; // refinement
   double seconds_refine = 0, seconds_charge = 0, seconds_trace = 0;
+  double seconds_seed_weld = 0;  // of seconds_trace: the seeds' welds
   bool charges_cached = false, lines_cached = false;
   std::vector<std::string> warnings;
   // The seeds' edge weld (geometry::weld_by_edges at

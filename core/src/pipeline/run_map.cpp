@@ -239,7 +239,8 @@ MapResult run_map(const Soup& soup, const MapOptions& options, Progress& progres
   const geometry::Weld weld = pipeline::cached_weld(
       options.cache, hash,
       options.weld_by_edges
-          ? pipeline::weld_recipe("edges-consistent", {options.edge_weld_tolerance * diag, 1.0})
+          ? pipeline::weld_recipe(std::string(geometry::kEdgeWeldAlgorithm) + "-consistent",
+                                 {options.edge_weld_tolerance * diag, 1.0})
           : pipeline::weld_recipe("corners", {options.weld_tolerance * diag, options.weld_edge_fraction}),
       [&] {
         // The field branch's seeds used the same recipe: take theirs.
@@ -303,7 +304,8 @@ MapResult run_map(const Soup& soup, const MapOptions& options, Progress& progres
   // The metric's weld ran beside the field branch: its seconds are not
   // part of the stage's.
   d["stages"]["weld"] = {{"seconds", seconds_weld}, {"cached", weld_cached},
-                         {"metric_weld_seconds_beside_field_branch", seconds_metric_weld}};
+                         {"metric_weld_seconds_beside_field_branch", seconds_metric_weld},
+                         {"seed_weld_seconds_in_trace", field.seconds_seed_weld}};
   if (field.lines_cached) d["stages"]["field_cache"] = {{"seconds", seconds_field_branch}};
   d["proxy"] = pb.proxy.diagnostics();
   d["proxy"]["closed"] = pb.proxy.closed;

@@ -30,9 +30,10 @@ struct Weld {
 // a tolerance close to the edge length cannot collapse whole regions.
 Weld weld_corners(const Soup& soup, double tolerance, double edge_fraction = 0);
 
-// Welds through matched edges instead (quality/edge_weld.cpp): two triangle
-// edges whose endpoints lie within `tolerance` of each other's, closest pairs
-// first, each edge matched once, never two corners of one triangle joined.
+// Welds through matched edges instead (geometry/edge_weld.cpp): two triangle
+// edges whose endpoints lie within `tolerance` of each other's, matched for
+// the least total distance (geometry/pair_matching.h), each edge matched
+// once, never two corners of one triangle joined.
 // On noisy soups whose noise reaches the shortest edges it joins fewer
 // distinct vertices than weld_corners (teapot soup vs its original, 4e-3 vs
 // 2e-3 of the diagonal: 257 vs 409 corners on a wrong vertex, 134 vs 430
@@ -51,6 +52,11 @@ Weld weld_corners(const Soup& soup, double tolerance, double edge_fraction = 0);
 // distance.
 Weld weld_by_edges(const Soup& soup, double tolerance, double ambiguity_ratio = 1,
                    bool flipped_neighbours = true);
+
+// Names weld_by_edges's algorithm in the cache keys of what is computed
+// from its result (the UV stage's weld, the field lines' seeds): changes
+// whenever the same inputs would weld differently.
+inline constexpr const char* kEdgeWeldAlgorithm = "edges-least-cost-matching";
 
 // weld_corners, but starting from the groups of `start` (a weld of the same
 // soup, e.g. weld_by_edges): its groups stay joined, and further corners join
