@@ -166,15 +166,9 @@ AttachFigures attach_small_islands(const Soup& soup, const std::vector<geometry:
     }
   }
   if (f.attached == 0) return f;
-  // Island ids stay dense: renumber the hosts.
-  std::vector<uint32_t> id(L.island_count, UINT32_MAX);
-  uint32_t count = 0;
-  for (size_t t = 0; t < n; ++t) {
-    uint32_t& k = id[find(L.island[t])];
-    if (k == UINT32_MAX) k = count++;
-    L.island[t] = k;
-  }
-  L.island_count = count;
+  // Every triangle to its host's id, then the hosts renumbered.
+  for (size_t t = 0; t < n; ++t) L.island[t] = find(L.island[t]);
+  compact_island_ids(L);
   return f;
 }
 

@@ -109,15 +109,7 @@ SeamSmoothFigures smooth_seams(const Soup& soup, const std::vector<geometry::Adj
     }
   }
   if (f.moved == 0) return f;
-  // Island ids stay dense: drop the islands left empty.
-  std::vector<uint32_t> id(L.island_count, UINT32_MAX);
-  uint32_t count = 0;
-  for (size_t t = 0; t < n; ++t) {
-    uint32_t& k = id[L.island[t]];
-    if (k == UINT32_MAX) k = count++;
-    L.island[t] = k;
-  }
-  L.island_count = count;
+  compact_island_ids(L);  // drops the islands left empty
   return f;
 }
 

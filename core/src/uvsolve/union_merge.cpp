@@ -187,15 +187,7 @@ UnionMergeFigures merge_by_reflattening(const Soup& soup, double uv_per_length,
     pending.swap(later);
   }
   if (f.joined == 0) return f;
-  // Island ids stay dense: renumber the survivors.
-  std::vector<uint32_t> id(L.island_count, UINT32_MAX);
-  uint32_t count = 0;
-  for (size_t t = 0; t < n; ++t) {
-    uint32_t& k = id[L.island[t]];
-    if (k == UINT32_MAX) k = count++;
-    L.island[t] = k;
-  }
-  L.island_count = count;
+  compact_island_ids(L);  // the survivors renumbered
   split_vertices_by_island(L);
   return f;
 }

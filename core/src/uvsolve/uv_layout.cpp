@@ -61,6 +61,17 @@ uint32_t edge_components(const std::vector<std::array<uint32_t, 3>>& corner_vert
   return count;
 }
 
+void compact_island_ids(UvLayout& layout) {
+  std::vector<uint32_t> id(layout.island_count, UINT32_MAX);
+  uint32_t count = 0;
+  for (uint32_t& island : layout.island) {
+    uint32_t& k = id[island];
+    if (k == UINT32_MAX) k = count++;
+    island = k;
+  }
+  layout.island_count = count;
+}
+
 std::vector<std::vector<uint32_t>> island_triangles(const UvLayout& layout) {
   std::vector<std::vector<uint32_t>> out(layout.island_count);
   for (size_t t = 0; t < layout.island.size(); ++t) out[layout.island[t]].push_back(uint32_t(t));

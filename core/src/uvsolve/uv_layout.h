@@ -38,6 +38,11 @@ void split_vertices_by_island(UvLayout& layout);
 uint32_t edge_components(const std::vector<std::array<uint32_t, 3>>& corner_vertex,
                          const std::vector<uint8_t>* active, std::vector<uint32_t>& component);
 
+// Island ids made dense again after islands were joined or emptied: ids
+// numbered in the order of their first triangle, ids no triangle uses
+// dropped; island_count updated.
+void compact_island_ids(UvLayout& layout);
+
 // The triangles of each island, in soup order.
 std::vector<std::vector<uint32_t>> island_triangles(const UvLayout& layout);
 

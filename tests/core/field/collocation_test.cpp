@@ -55,17 +55,24 @@ TEST(Gmres, MatchesDenseLuWithRestartsAndPreconditioner) {
   EXPECT_GT(r.estimate, 1e-12);
 }
 
+// x -> x shifted by one place, cyclically (n x n), and the identity.
+LinearMap cyclic_shift(int n) {
+  return [n](const std::vector<double>& v, std::vector<double>& out) {
+    out.resize(n);
+    for (int i = 0; i < n; ++i) out[(i + 1) % n] = v[i];
+  };
+}
+LinearMap identity_map() {
+  return [](const std::vector<double>& v, std::vector<double>& out) { out = v; };
+}
+
 // GMRES(m) on the cyclic shift makes no progress until m reaches n (the
 // Krylov space of e1 holds e1..e_m, none of which reduces the residual):
 // the stall rule stops after one cycle and says so; without it the solve
 // spends every iteration it is given.
 TEST(Gmres, StopsWhenARestartCycleStalls) {
   const int n = 50;
-  LinearMap shift = [&](const std::vector<double>& v, std::vector<double>& out) {
-    out.resize(n);
-    for (int i = 0; i < n; ++i) out[(i + 1) % n] = v[i];
-  };
-  LinearMap identity = [](const std::vector<double>& v, std::vector<double>& out) { out = v; };
+  const LinearMap shift = cyclic_shift(n), identity = identity_map();
   std::vector<double> b(n, 0.0);
   b[0] = 1;
   GmresOptions o;
@@ -86,11 +93,7 @@ TEST(Gmres, StopsWhenARestartCycleStalls) {
 // converges steadily it never fires.
 TEST(Gmres, StopsInsideACycleThatStalls) {
   const int n = 50;
-  LinearMap shift = [&](const std::vector<double>& v, std::vector<double>& out) {
-    out.resize(n);
-    for (int i = 0; i < n; ++i) out[(i + 1) % n] = v[i];
-  };
-  LinearMap identity = [](const std::vector<double>& v, std::vector<double>& out) { out = v; };
+  const LinearMap shift = cyclic_shift(n), identity = identity_map();
   std::vector<double> b(n, 0.0);
   b[0] = 1;
   GmresOptions o;
