@@ -122,4 +122,39 @@ bool halve_island(UvLayout& L, uint32_t island) {
   return true;
 }
 
+std::vector<HalvingRound> halve_to_pack(const std::vector<geometry::AdjacentPair>& pairs,
+                                        const HalvingOptions& options, int texture_size, double padding_px,
+                                        int threads, UvLayout& layout,
+                                        std::vector<std::array<Vec2, 3>>& corner_uvs, PackFigures& packed) {
+  std::vector<HalvingRound> rounds;
+  if (layout.island_count > options.max_islands) return rounds;
+  UvLayout trial = layout;
+  for (int round = 0; round < options.rounds && packed.utilisation < options.below; ++round) {
+    const auto islands = island_triangles(trial);
+    std::vector<double> area(islands.size(), 0);
+    for (size_t i = 0; i < islands.size(); ++i)
+      for (uint32_t t : islands[i]) area[i] += 0.5 * std::abs(signed_area2(trial, t));
+    const double largest = *std::max_element(area.begin(), area.end());
+    HalvingRound h;
+    for (size_t i = 0; i < islands.size(); ++i)
+      if (area[i] >= 0.5 * largest) h.halved += halve_island(trial, uint32_t(i));
+    h.kept_pairs = kept_pair_share(pairs, trial);
+    if (h.halved == 0 || h.kept_pairs < options.min_kept_pairs) {
+      rounds.push_back(h);
+      break;
+    }
+    std::vector<std::array<Vec2, 3>> uvs;
+    const PackFigures tried = pack_islands(trial, texture_size, padding_px, threads, uvs);
+    h.packed = true;
+    h.utilisation = tried.utilisation;
+    h.kept = tried.utilisation > packed.utilisation;
+    rounds.push_back(h);
+    if (!h.kept) break;
+    packed = tried;
+    corner_uvs = std::move(uvs);
+    layout = trial;
+  }
+  return rounds;
+}
+
 }  // namespace soupuv::uvsolve::detail

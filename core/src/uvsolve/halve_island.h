@@ -1,4 +1,4 @@
-// Halving an island for packing (private to the UV solve): a few large
+// Halving islands for packing (private to the UV solve): a few large
 // islands fill a square badly (two round blobs leave its corners empty),
 // their halves fill the gaps. The halves keep the island's UVs, so they stay
 // injective and need no new flattening; the cut costs the welded pairs that
@@ -17,12 +17,41 @@
 //         side, so each half is one piece.
 #pragma once
 
+#include <array>
 #include <cstdint>
+#include <vector>
 
+#include "soupuv/geometry/weld.h"
+#include "uvsolve/pack_islands.h"
 #include "uvsolve/uv_layout.h"
 
 namespace soupuv::uvsolve::detail {
 
 bool halve_island(UvLayout& layout, uint32_t island);
+
+// Packing with halving (soup_uv_solve.h, SoupUvOptions::halving_*). A map
+// of at most max_islands islands whose packing `packed` (corner_uvs) fills
+// less than `below` of the square: up to `rounds` times, its islands of at
+// least half the largest's area are halved and the map packed again
+// (pack_islands.h); a round is kept (layout, corner_uvs and packed
+// replaced) while it raises the utilisation and leaves at least
+// min_kept_pairs of the weld's pairs uncut. -> each round tried.
+struct HalvingOptions {
+  uint32_t max_islands = 64;
+  double below = 0.72;
+  int rounds = 2;
+  double min_kept_pairs = 0.95;
+};
+struct HalvingRound {
+  size_t halved = 0;
+  double kept_pairs = 0;  // after the cut
+  bool packed = false;    // false: nothing to halve, or the cut kept too few pairs
+  double utilisation = 0;
+  bool kept = false;
+};
+std::vector<HalvingRound> halve_to_pack(const std::vector<geometry::AdjacentPair>& pairs,
+                                        const HalvingOptions& options, int texture_size, double padding_px,
+                                        int threads, UvLayout& layout,
+                                        std::vector<std::array<Vec2, 3>>& corner_uvs, PackFigures& packed);
 
 }  // namespace soupuv::uvsolve::detail

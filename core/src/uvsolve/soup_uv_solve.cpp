@@ -1,7 +1,6 @@
 #include "soupuv/uvsolve/soup_uv_solve.h"
 
 #include <chrono>
-#include <algorithm>
 #include <cmath>
 
 #include "uvsolve/attach_islands.h"
@@ -21,17 +20,6 @@ namespace soupuv::uvsolve {
 namespace {
 using Clock = std::chrono::steady_clock;
 double since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
-
-// Share of the weld's adjacent pairs whose two shared corners still share
-// layout vertices: the continuity each step leaves (cuts only lower it).
-double kept_pairs(const std::vector<geometry::AdjacentPair>& pairs, const detail::UvLayout& L) {
-  if (pairs.empty()) return 1;
-  size_t kept = 0;
-  for (const auto& p : pairs)
-    kept += L.corner_vertex[p.a][p.a_corner[0]] == L.corner_vertex[p.b][p.b_corner[0]] &&
-            L.corner_vertex[p.a][p.a_corner[1]] == L.corner_vertex[p.b][p.b_corner[1]];
-  return double(kept) / double(pairs.size());
-}
 
 nlohmann::json reembed_json(const detail::ReembedFigures& f) {
   return {{"islands", f.islands},
@@ -57,7 +45,7 @@ SoupUvResult solve_soup_uvs(const Soup& soup, const geometry::Weld& weld,
   const std::vector<geometry::AdjacentPair> pairs = geometry::edge_adjacency(weld, soup.triangles.size());
   d["uv_mesh"] = {{"vertices", layout.uv.size()},
                   {"islands", layout.island_count},
-                  {"kept_pairs", kept_pairs(pairs, layout)},
+                  {"kept_pairs", detail::kept_pair_share(pairs, layout)},
                   {"seconds", since(t0)}};
 
   auto t_untangle = Clock::now();
@@ -86,7 +74,7 @@ SoupUvResult solve_soup_uvs(const Soup& soup, const geometry::Weld& weld,
     const detail::ReembedFigures rf = detail::reembed_islands(
         soup, uv_per_length, selected, cell, options.reembed_max_stretch, options.solve_iterations, options.threads, layout);
     nlohmann::json j = reembed_json(rf);
-    j["kept_pairs"] = kept_pairs(pairs, layout);
+    j["kept_pairs"] = detail::kept_pair_share(pairs, layout);
     j["seconds"] = since(t0);
     d[name] = j;
   };
@@ -106,7 +94,7 @@ SoupUvResult solve_soup_uvs(const Soup& soup, const geometry::Weld& weld,
                    {"unfolded_triangles", fc.unfolded_triangles},
                    {"seeded_islands", fc.seeded_islands},
                    {"islands", layout.island_count},
-                   {"kept_pairs", kept_pairs(pairs, layout)},
+                   {"kept_pairs", detail::kept_pair_share(pairs, layout)},
                    {"seconds", since(t1)}};
   progress.update("uv_solve", 0.1);
 
@@ -142,7 +130,7 @@ SoupUvResult solve_soup_uvs(const Soup& soup, const geometry::Weld& weld,
                         {"singleton_pieces", of.singleton_pieces},
                         {"unfolded_singletons", of.unfolded_singletons},
                         {"islands", layout.island_count},
-                        {"kept_pairs", kept_pairs(pairs, layout)},
+                        {"kept_pairs", detail::kept_pair_share(pairs, layout)},
                         {"seconds", since(t3)}};
   progress.update("uv_solve", 0.8);
 
@@ -156,7 +144,7 @@ SoupUvResult solve_soup_uvs(const Soup& soup, const geometry::Weld& weld,
                         {"joined", uf2.joined},
                         {"repeated", uf2.repeated},
                         {"islands", layout.island_count},
-                        {"kept_pairs", kept_pairs(pairs, layout)},
+                        {"kept_pairs", detail::kept_pair_share(pairs, layout)},
                         {"seconds", since(t_um)}};
   }
 
@@ -172,7 +160,7 @@ SoupUvResult solve_soup_uvs(const Soup& soup, const geometry::Weld& weld,
                           {"refused_fold", mf.refused_fold},
                           {"refused_overlap", mf.refused_overlap},
                           {"islands", layout.island_count},
-                          {"kept_pairs", kept_pairs(pairs, layout)}};
+                          {"kept_pairs", detail::kept_pair_share(pairs, layout)}};
   if (mf.joined > 0) {
     const detail::SolveFigures again = detail::solve_islands(soup, uv_per_length, options.solve_iterations,
                                                              options.threads, layout, &mf.joined_island, cell);
@@ -180,7 +168,7 @@ SoupUvResult solve_soup_uvs(const Soup& soup, const geometry::Weld& weld,
     merge["solve_energy_after"] = again.energy_after;
     merge["solve_kept_for_laps"] = again.kept_for_laps;
     merge["resplit_pieces"] = resplit.pieces_added;
-    merge["kept_pairs_after_resplit"] = kept_pairs(pairs, layout);
+    merge["kept_pairs_after_resplit"] = detail::kept_pair_share(pairs, layout);
   }
   merge["seconds"] = since(t_merge);
   d["seam_merge"] = merge;
@@ -207,7 +195,7 @@ SoupUvResult solve_soup_uvs(const Soup& soup, const geometry::Weld& weld,
                  {"attached_with_lap", af.attached_with_lap},
                  {"lapped_texels", full_texel > 0 ? af.lapped_area / (full_texel * full_texel) : 0.0},
                  {"islands", layout.island_count},
-                 {"kept_pairs", kept_pairs(pairs, layout)},
+                 {"kept_pairs", detail::kept_pair_share(pairs, layout)},
                  {"seconds", since(t_attach)}};
 
   // Triangles that zigzag across a seam join the island they are welded
@@ -224,47 +212,26 @@ SoupUvResult solve_soup_uvs(const Soup& soup, const geometry::Weld& weld,
                         {"refused_overlap", sm.refused_overlap},
                         {"passes", sm.passes},
                         {"islands", layout.island_count},
-                        {"kept_pairs", kept_pairs(pairs, layout)},
+                        {"kept_pairs", detail::kept_pair_share(pairs, layout)},
                         {"seconds", since(t_smooth)}};
   }
 
   auto t4 = Clock::now();
   detail::PackFigures pf = detail::pack_islands(layout, options.texture_size, options.padding_px,
                                                 options.threads, r.corner_uvs);
+  // Few large islands fill the square badly: halved and packed again where
+  // that gains (halve_island.h).
+  detail::HalvingOptions ho;
+  ho.max_islands = options.halving_max_islands;
+  ho.below = options.halving_below;
+  ho.rounds = options.halving_rounds;
+  ho.min_kept_pairs = options.halving_min_kept_pairs;
   nlohmann::json halving = nlohmann::json::array();
-  // Few large islands fill the square badly (two round blobs leave its
-  // corners empty): while the utilisation is below halving_below, the
-  // largest islands are halved along a straight UV line (halve_island.h)
-  // and everything packed again, as long as a round gains utilisation and
-  // keeps the share of welded pairs at or above halving_min_kept_pairs.
-  if (layout.island_count <= options.halving_max_islands) {
-    detail::UvLayout trial = layout;
-    for (int round = 0; round < options.halving_rounds && pf.utilisation < options.halving_below; ++round) {
-      const auto islands = detail::island_triangles(trial);
-      std::vector<double> area(islands.size(), 0);
-      for (size_t i = 0; i < islands.size(); ++i)
-        for (uint32_t t : islands[i]) area[i] += 0.5 * std::abs(detail::signed_area2(trial, t));
-      const double largest = *std::max_element(area.begin(), area.end());
-      size_t halved = 0;
-      for (size_t i = 0; i < islands.size(); ++i)
-        if (area[i] >= 0.5 * largest) halved += detail::halve_island(trial, uint32_t(i));
-      const double kept = kept_pairs(pairs, trial);
-      nlohmann::json j = {{"halved", halved}, {"kept_pairs", kept}};
-      if (halved == 0 || kept < options.halving_min_kept_pairs) {
-        halving.push_back(j);
-        break;
-      }
-      std::vector<std::array<Vec2, 3>> uvs;
-      const detail::PackFigures tf = detail::pack_islands(trial, options.texture_size, options.padding_px,
-                                                          options.threads, uvs);
-      j["utilisation"] = tf.utilisation;
-      j["kept"] = tf.utilisation > pf.utilisation;
-      halving.push_back(j);
-      if (!(tf.utilisation > pf.utilisation)) break;
-      pf = tf;
-      r.corner_uvs = std::move(uvs);
-      layout = trial;
-    }
+  for (const detail::HalvingRound& h : detail::halve_to_pack(pairs, ho, options.texture_size, options.padding_px,
+                                                              options.threads, layout, r.corner_uvs, pf)) {
+    nlohmann::json j = {{"halved", h.halved}, {"kept_pairs", h.kept_pairs}};
+    if (h.packed) j["utilisation"] = h.utilisation, j["kept"] = h.kept;
+    halving.push_back(j);
   }
   d["pack"] = {{"islands", layout.island_count},
                {"texels_per_uv", pf.texels_per_uv},
@@ -273,7 +240,7 @@ SoupUvResult solve_soup_uvs(const Soup& soup, const geometry::Weld& weld,
                {"units", pf.units},
                {"grouped_islands", pf.grouped_islands},
                {"halving", halving},
-               {"kept_pairs", kept_pairs(pairs, layout)},
+               {"kept_pairs", detail::kept_pair_share(pairs, layout)},
                {"seconds", since(t4)}};
   d["seconds"] = since(t0);
   progress.update("uv_solve", 1);

@@ -72,6 +72,15 @@ void compact_island_ids(UvLayout& layout) {
   layout.island_count = count;
 }
 
+double kept_pair_share(const std::vector<geometry::AdjacentPair>& pairs, const UvLayout& L) {
+  if (pairs.empty()) return 1;
+  size_t kept = 0;
+  for (const auto& p : pairs)
+    kept += L.corner_vertex[p.a][p.a_corner[0]] == L.corner_vertex[p.b][p.b_corner[0]] &&
+            L.corner_vertex[p.a][p.a_corner[1]] == L.corner_vertex[p.b][p.b_corner[1]];
+  return double(kept) / double(pairs.size());
+}
+
 std::vector<std::vector<uint32_t>> island_triangles(const UvLayout& layout) {
   std::vector<std::vector<uint32_t>> out(layout.island_count);
   for (size_t t = 0; t < layout.island.size(); ++t) out[layout.island[t]].push_back(uint32_t(t));

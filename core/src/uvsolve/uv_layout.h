@@ -9,6 +9,7 @@
 #include <cstdint>
 #include <vector>
 
+#include "soupuv/geometry/weld.h"
 #include "soupuv/soup.h"
 #include "soupuv/vec.h"
 
@@ -42,6 +43,10 @@ uint32_t edge_components(const std::vector<std::array<uint32_t, 3>>& corner_vert
 // numbered in the order of their first triangle, ids no triangle uses
 // dropped; island_count updated.
 void compact_island_ids(UvLayout& layout);
+
+// Share of the weld's adjacent pairs whose two shared corners still share
+// layout vertices: the continuity a layout keeps (cuts only lower it).
+double kept_pair_share(const std::vector<geometry::AdjacentPair>& pairs, const UvLayout& layout);
 
 // The triangles of each island, in soup order.
 std::vector<std::vector<uint32_t>> island_triangles(const UvLayout& layout);
