@@ -13,8 +13,9 @@
 // Method: the line crosses the long side of the island's minimal-area
 //         rectangle at its area median (triangles by centroid); a
 //         triangle with two or three edge neighbours across the cut joins
-//         them (the seam gets shorter, a few passes); a piece of one side that touches the other only through it goes to the other
-//         side, so each half is one piece.
+//         them (the seam gets shorter, a few passes); a piece of one side
+//         that touches the other only through it goes to the other side,
+//         so each half is one piece.
 #pragma once
 
 #include <array>
