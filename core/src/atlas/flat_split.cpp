@@ -8,28 +8,16 @@
 
 namespace soupuv::atlas {
 
-std::optional<std::pair<FlatChart, FlatChart>> split_flat_chart(
-    const FlatChart& chart, const TriMesh& mesh, const MeshTopology& topology,
-    const std::vector<char>& seam, std::vector<int>& face_chart, int& next_id,
-    std::vector<int>& face_local) {
-  const int n = static_cast<int>(chart.mesh.faces.size());
-  if (n < 2) return std::nullopt;
-  std::vector<Vec2> centroid(n);
-  std::vector<double> area(n);
+std::vector<int> area_median_sides(const std::vector<Vec2>& points, const std::vector<Vec2>& centroid,
+                                   const std::vector<double>& area) {
+  const int n = static_cast<int>(centroid.size());
   double total = 0;
-  for (int i = 0; i < n; ++i) {
-    const auto& t = chart.mesh.tri[i];
-    Vec2 a = chart.uv[t[0]], b = chart.uv[t[1]], c = chart.uv[t[2]];
-    centroid[i] = (a + b + c) * (1.0 / 3);
-    area[i] = 0.5 * std::fabs(cross(b - a, c - a));
-    total += area[i];
-  }
-  if (!(total > 0)) return std::nullopt;
+  for (double a : area) total += a;
+  if (!(total > 0)) return {};
   // Cut across the long side of the minimal-area rectangle: a square splits
   // into two rectangles, a long chart into two shorter ones.
-  MinRectangle rect = min_area_rectangle(chart.uv);
+  MinRectangle rect = min_area_rectangle(points);
   Vec2 axis = rect.size.x >= rect.size.y ? rect.axis : Vec2{-rect.axis.y, rect.axis.x};
-
   std::vector<int> order(n);
   std::iota(order.begin(), order.end(), 0);
   std::sort(order.begin(), order.end(),
@@ -41,6 +29,25 @@ std::optional<std::pair<FlatChart, FlatChart>> split_flat_chart(
     side[i] = 0;
     acc += area[i];
   }
+  return side;
+}
+
+std::optional<std::pair<FlatChart, FlatChart>> split_flat_chart(
+    const FlatChart& chart, const TriMesh& mesh, const MeshTopology& topology,
+    const std::vector<char>& seam, std::vector<int>& face_chart, int& next_id,
+    std::vector<int>& face_local) {
+  const int n = static_cast<int>(chart.mesh.faces.size());
+  if (n < 2) return std::nullopt;
+  std::vector<Vec2> centroid(n);
+  std::vector<double> area(n);
+  for (int i = 0; i < n; ++i) {
+    const auto& t = chart.mesh.tri[i];
+    Vec2 a = chart.uv[t[0]], b = chart.uv[t[1]], c = chart.uv[t[2]];
+    centroid[i] = (a + b + c) * (1.0 / 3);
+    area[i] = 0.5 * std::fabs(cross(b - a, c - a));
+  }
+  const std::vector<int> side = area_median_sides(chart.uv, centroid, area);
+  if (side.empty()) return std::nullopt;
 
   const int old_id = face_chart[chart.mesh.faces[0]];
   std::vector<int> parent_index[2];

@@ -4,7 +4,7 @@
 #include <cmath>
 #include <numeric>
 
-#include "atlas/pack.h"
+#include "atlas/flat_split.h"
 
 namespace soupuv::uvsolve::detail {
 
@@ -14,32 +14,18 @@ bool halve_island(UvLayout& L, uint32_t island) {
     if (L.island[t] == island) tris.push_back(uint32_t(t));
   const size_t n = tris.size();
   if (n < 2) return false;
-  std::vector<Vec2> points;
+  std::vector<Vec2> points, centroid(n);
+  std::vector<double> area(n);
   points.reserve(3 * n);
-  for (uint32_t t : tris)
-    for (uint32_t v : L.corner_vertex[t]) points.push_back(L.uv[v]);
-  const atlas::MinRectangle rect = atlas::min_area_rectangle(points);
-  const Vec2 axis = rect.size.x >= rect.size.y ? rect.axis : Vec2{-rect.axis.y, rect.axis.x};
-
-  std::vector<double> along(n), area(n);
-  double total = 0;
   for (size_t i = 0; i < n; ++i) {
     const auto& v = L.corner_vertex[tris[i]];
-    along[i] = dot((L.uv[v[0]] + L.uv[v[1]] + L.uv[v[2]]) * (1.0 / 3), axis);
+    for (uint32_t c : v) points.push_back(L.uv[c]);
+    centroid[i] = (L.uv[v[0]] + L.uv[v[1]] + L.uv[v[2]]) * (1.0 / 3);
     area[i] = 0.5 * std::abs(signed_area2(L, tris[i]));
-    total += area[i];
   }
-  if (!(total > 0)) return false;
-  std::vector<uint32_t> order(n);
-  std::iota(order.begin(), order.end(), 0u);
-  std::sort(order.begin(), order.end(), [&](uint32_t a, uint32_t b) { return along[a] < along[b]; });
-  std::vector<uint8_t> side(n, 1);
-  double below = 0;
-  for (uint32_t i : order) {
-    if (below >= 0.5 * total) break;
-    side[i] = 0;
-    below += area[i];
-  }
+  const std::vector<int> cut = atlas::area_median_sides(points, centroid, area);
+  if (cut.empty()) return false;
+  std::vector<uint8_t> side(cut.begin(), cut.end());
 
   // The line's cut through triangles by centroid zigzags across thin ones
   // (noisy soups' slivers): a triangle with two or three edge neighbours on
