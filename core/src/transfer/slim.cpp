@@ -248,6 +248,7 @@ SlimResult slim_relax(const std::vector<std::array<uint32_t, 3>>& triangles,
         triangles, rest, uv, step, target, current,
         [&](const std::vector<Vec2>& x) { return mesh_energy(triangles, rest, x); });
     if (!keep_going(next, it, options.min_relative_decrease, current, result)) break;
+    if (options.stop_after && options.stop_after(it + 1, uv)) break;
   }
   result.energy_after = current;
   return result;

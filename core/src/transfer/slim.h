@@ -26,6 +26,7 @@
 
 #include <array>
 #include <cstdint>
+#include <functional>
 #include <vector>
 
 #include "soupuv/vec.h"
@@ -36,6 +37,10 @@ namespace soupuv::transfer::detail {
 struct SlimOptions {
   int max_iterations = 40;
   double min_relative_decrease = 1e-4;
+  // Called after each iteration that lowered the energy, with the number of
+  // iterations made and the UVs; returning true ends the solve there (a
+  // caller that can already tell the result will be refused).
+  std::function<bool(int iterations, const std::vector<Vec2>& uv)> stop_after;
 };
 
 struct SlimResult {

@@ -11,6 +11,24 @@
 namespace soupuv::uvsolve::detail {
 
 namespace {
+// The most samples a piece's lap test takes over its area (see flatten).
+constexpr double kMaxLapSamples = double(1 << 20);
+// After kProbeIterations of SLIM, a piece whose L2 stretch is still above
+// kHopelessStretch times the budget is refused there: over the corpus's
+// mid-size soups no piece that far above it after three iterations came
+// within the budget by the tenth (the kept ones were at most 0.97 of it),
+// and the refused unions are the largest (docs/tuning.md, session 33).
+constexpr int kProbeIterations = 3;
+constexpr double kHopelessStretch = 1.3;
+
+// The piece's UVs as corners per triangle.
+std::vector<std::array<Vec2, 3>> corners_of(const PieceMesh& m, const std::vector<Vec2>& uv) {
+  std::vector<std::array<Vec2, 3>> corners(m.triangles.size());
+  for (size_t j = 0; j < m.triangles.size(); ++j)
+    for (int k = 0; k < 3; ++k) corners[j][k] = uv[m.triangles[j][k]];
+  return corners;
+}
+
 uint32_t find(std::vector<uint32_t>& parent, uint32_t x) {
   while (parent[x] != x) x = parent[x] = parent[parent[x]];
   return x;
@@ -177,6 +195,12 @@ Outcome flatten(const PieceMesh& m, const std::vector<uint32_t>& tris, double ce
   const std::vector<uint8_t> fixed(uv.size(), 0);
   transfer::detail::SlimOptions so;
   so.max_iterations = solve_iterations;
+  bool hopeless = false;
+  so.stop_after = [&](int iterations, const std::vector<Vec2>& now) {
+    if (iterations != kProbeIterations || iterations >= solve_iterations) return false;
+    hopeless = rest_stretch_l2(m.rest, corners_of(m, now)) > kHopelessStretch * max_stretch;
+    return hopeless;
+  };
   if (!transfer::detail::slim_relax(m.triangles, m.rest, fixed, uv, so).started) {
     // A conformal map of a noisy piece can fold a sliver; ARAP from it
     // often opens the fold (its energy is finite on flipped triangles).
@@ -184,18 +208,22 @@ Outcome flatten(const PieceMesh& m, const std::vector<uint32_t>& tris, double ce
     if (uv.empty() || !transfer::detail::slim_relax(m.triangles, m.rest, fixed, uv, so).started)
       return Outcome::flip;
   }
+  if (hopeless) return Outcome::stretch;
   // The stretch against each soup triangle's own shape (its rest
   // triangle): the piece's vertices are means of joined noisy corners, and
   // a sliver's mean triangle can differ from the soup's far more than the
   // map does.
-  std::vector<std::array<Vec2, 3>> corners(tris.size());
+  const std::vector<std::array<Vec2, 3>> corners = corners_of(m, uv);
   double area = 0;
-  for (size_t j = 0; j < tris.size(); ++j) {
-    for (int k = 0; k < 3; ++k) corners[j][k] = uv[m.triangles[j][k]];
-    area += 0.5 * std::abs(cross(corners[j][1] - corners[j][0], corners[j][2] - corners[j][0]));
-  }
+  for (const auto& p : corners) area += 0.5 * std::abs(cross(p[1] - p[0], p[2] - p[0]));
   if (rest_stretch_l2(m.rest, corners) > max_stretch) return Outcome::stretch;
-  if (double(overlap_samples(corners, cell)) > kLapShare * area / (cell * cell)) {
+  // The lap test is a share of the piece's samples, so a large piece is
+  // sampled no finer than kMaxLapSamples over its area: at that count the
+  // share's sampling error is far below kLapShare, while the texel-rate
+  // grid made re-flattening a union with a large island (a table top) cost
+  // more than its SLIM (docs/tuning.md, session 33).
+  const double lap_cell = std::max(cell, std::sqrt(area / kMaxLapSamples));
+  if (double(overlap_samples(corners, lap_cell)) > kLapShare * area / (lap_cell * lap_cell)) {
     out.tris = tris;
     out.corner = m.triangles;
     out.uv = std::move(uv);
