@@ -12,7 +12,7 @@ namespace soupuv::uvsolve::detail {
 
 namespace {
 // The most samples a piece's lap test takes over its area (see flatten).
-constexpr double kMaxLapSamples = double(1 << 20);
+constexpr double kMaxLapSamples = double(1 << 17);
 // After kProbeIterations of SLIM, a piece whose L2 stretch is still above
 // kHopelessStretch times the budget is refused there: over the corpus's
 // mid-size soups no piece that far above it after three iterations came
