@@ -207,6 +207,7 @@ SoupUvResult solve_soup_uvs(const Soup& soup, const geometry::Weld& weld,
         options.attach_max_lap_texels * full_texel * full_texel, layout);
     d["seam_smooth"] = {{"candidates", sm.candidates},
                         {"moved", sm.moved},
+                        {"relaxed", sm.relaxed},
                         {"refused_fold", sm.refused_fold},
                         {"refused_stretch", sm.refused_stretch},
                         {"refused_overlap", sm.refused_overlap},

@@ -1,5 +1,6 @@
 // Seam smoothing: triangles welded to another island on two or three edges
-// join it where their image there is sound; no vertex moves.
+// join it where their image there is sound, as it is (no vertex moves) or
+// with the island's vertices around it relaxed.
 #include "uvsolve/seam_smooth.h"
 
 #include <gtest/gtest.h>
@@ -112,26 +113,57 @@ TEST(SeamSmooth, TeethOfAZigzagSeamJoinTheOtherSide) {
   EXPECT_EQ(g.layout.island_count, 2u);
 }
 
-TEST(SeamSmooth, AToothWhoseImageThereFoldsStays) {
+TEST(SeamSmooth, AToothWhoseNotchIsFoldedJoinsWithTheNotchRelaxed) {
   const int n = 6;
   Grid probe = make_grid(n, [](uint32_t) { return 0u; });
   const uint32_t tooth = probe.lower(2, 2);
   Grid g = make_grid(n, [&](uint32_t t) { return (int(t / 2) % n < 2 || t == tooth) ? 0u : 1u; });
   // Island 1's copy of the tooth's corner (3, 3) is pulled across the
-  // tooth's other corners: there the tooth would be flipped.
+  // tooth's other corners: there the tooth would be flipped as it is.
   const uint32_t corner = g.layout.corner_vertex[probe.upper(2, 2)][1];  // (3, 3) in island 1
   g.layout.uv[corner] = Vec2{0.025, 0.02};
-  std::vector<uint8_t> folded_before(g.layout.island.size());
-  for (uint32_t t = 0; t < folded_before.size(); ++t) folded_before[t] = !(uvsolve::detail::signed_area2(g.layout, t) > 0);
+  const UvLayout before = g.layout;
+  const size_t kept_before = kept_pairs(g);
   const auto f = uvsolve::detail::smooth_seams(g.soup, g.pairs, 0.01, 0.05, 1.25, 0.0, g.layout);
-  EXPECT_GE(f.refused_fold, 1u);
-  EXPECT_EQ(g.layout.island[tooth], 0u);
-  // Whatever moved (the triangle below the tooth may join island 0 on its
-  // two edges there), nothing is left folded that was not before.
-  for (uint32_t t = 0; t < folded_before.size(); ++t) {
-    if (folded_before[t]) continue;
+  EXPECT_GE(f.relaxed, 1u);
+  EXPECT_EQ(g.layout.island[tooth], 1u);
+  EXPECT_GT(kept_pairs(g), kept_before);
+  // Island 1 holds no folded triangle (the pulled corner folded two of
+  // its own; the relaxation opened them with the notch).
+  for (uint32_t t = 0; t < g.layout.island.size(); ++t) {
+    if (g.layout.island[t] != 1) continue;
     EXPECT_GT(uvsolve::detail::signed_area2(g.layout, t), 0.0) << "triangle " << t;
   }
+  // Only island 1's vertices within two rings of the notch moved: the
+  // corners of cells from column 5 on are where they were.
+  for (int j = 0; j < n; ++j) {
+    const uint32_t t = probe.upper(5, j);
+    for (int k = 0; k < 3; ++k) {
+      const Vec2 now = g.layout.uv[g.layout.corner_vertex[t][k]], was = before.uv[before.corner_vertex[t][k]];
+      EXPECT_EQ(now.x, was.x);
+      EXPECT_EQ(now.y, was.y);
+    }
+  }
+}
+
+TEST(SeamSmooth, AToothWhosePlaceTheIslandCoversElsewhereStays) {
+  const int n = 6;
+  Grid probe = make_grid(n, [](uint32_t) { return 0u; });
+  const uint32_t tooth = probe.lower(2, 2), far = probe.lower(0, 5);
+  // `far`, in island 0's columns, belongs to island 1 with its own
+  // vertices (none of its grid points is island 1's elsewhere).
+  Grid g = make_grid(n, [&](uint32_t t) {
+    if (t == far) return 1u;
+    return (int(t / 2) % n < 2 || t == tooth) ? 0u : 1u;
+  });
+  // Laid over the tooth's place in island 1, much larger than it.
+  const auto& cv = g.layout.corner_vertex[far];
+  g.layout.uv[cv[0]] = Vec2{0.0, 0.0};
+  g.layout.uv[cv[1]] = Vec2{0.06, 0.0};
+  g.layout.uv[cv[2]] = Vec2{0.06, 0.06};
+  const auto f = uvsolve::detail::smooth_seams(g.soup, g.pairs, 0.01, 0.05, 1.25, 0.0, g.layout);
+  EXPECT_GE(f.refused_overlap, 1u);
+  EXPECT_EQ(g.layout.island[tooth], 0u);
 }
 
 }  // namespace
