@@ -8,6 +8,12 @@
 
 namespace soupuv::atlas {
 
+namespace {
+// Triangles (centroids and areas, in UV) on either side of the line across
+// the long side of the minimal-area rectangle of `points` at the area
+// median. -> 0 or 1 per triangle; empty when the area is 0. (The UV
+// solve's halving for packing cuts where the fewest edges cross instead:
+// uvsolve/halve_island.h.)
 std::vector<int> area_median_sides(const std::vector<Vec2>& points, const std::vector<Vec2>& centroid,
                                    const std::vector<double>& area) {
   const int n = static_cast<int>(centroid.size());
@@ -31,6 +37,7 @@ std::vector<int> area_median_sides(const std::vector<Vec2>& points, const std::v
   }
   return side;
 }
+}  // namespace
 
 std::optional<std::pair<FlatChart, FlatChart>> split_flat_chart(
     const FlatChart& chart, const TriMesh& mesh, const MeshTopology& topology,

@@ -25,13 +25,6 @@ struct FlatChart {
   std::vector<Vec2> uv;  // per local vertex
 };
 
-// The cut both halvings use (this one and the UV solve's, uvsolve/
-// halve_island.h): triangles (centroids and areas, in UV) on either side of
-// the line across the long side of the minimal-area rectangle of `points`
-// at the area median. -> 0 or 1 per triangle; empty when the area is 0.
-std::vector<int> area_median_sides(const std::vector<Vec2>& points, const std::vector<Vec2>& centroid,
-                                   const std::vector<double>& area);
-
 std::optional<std::pair<FlatChart, FlatChart>> split_flat_chart(
     const FlatChart& chart, const TriMesh& mesh, const MeshTopology& topology,
     const std::vector<char>& forced_seam, std::vector<int>& face_chart, int& next_id,

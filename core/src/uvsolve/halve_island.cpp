@@ -4,9 +4,76 @@
 #include <cmath>
 #include <numeric>
 
-#include "atlas/flat_split.h"
+#include "atlas/pack.h"
 
 namespace soupuv::uvsolve::detail {
+
+namespace {
+// Each side of the cut keeps at least this share of the island's area.
+constexpr double kMinSideShare = 1.0 / 3;
+// Offsets tried along the rectangle's long side.
+constexpr int kCutOffsets = 64;
+
+// The line across the long side of the minimal-area rectangle of `points`
+// (a square splits into two rectangles, a long island into two shorter
+// ones), at the offset that crosses the fewest triangle edges (`neighbour`:
+// the triangle across each edge, UINT32_MAX for none) among kCutOffsets
+// offsets leaving each side at least kMinSideShare of the area; ties go
+// to the offset nearest the area median. Every edge the line crosses is a
+// welded pair the map loses: where the island narrows (a neck, a limb)
+// the cut costs a fraction of a cut through its middle. -> side per
+// triangle (by centroid); empty when the area is 0.
+std::vector<uint8_t> cheapest_cut_sides(const std::vector<Vec2>& points, const std::vector<Vec2>& centroid,
+                                        const std::vector<double>& area,
+                                        const std::vector<std::array<uint32_t, 3>>& neighbour) {
+  const size_t n = centroid.size();
+  double total = 0;
+  for (double a : area) total += a;
+  if (!(total > 0)) return {};
+  const atlas::MinRectangle rect = atlas::min_area_rectangle(points);
+  const Vec2 axis = rect.size.x >= rect.size.y ? rect.axis : Vec2{-rect.axis.y, rect.axis.x};
+  std::vector<double> at(n);
+  for (size_t i = 0; i < n; ++i) at[i] = dot(centroid[i], axis);
+  std::vector<uint32_t> order(n);
+  std::iota(order.begin(), order.end(), 0u);
+  std::sort(order.begin(), order.end(), [&](uint32_t a, uint32_t b) { return at[a] < at[b]; });
+  // The projections where the area below reaches kMinSideShare, the median
+  // and 1 - kMinSideShare.
+  double lo = at[order.front()], median = lo, hi = at[order.back()], acc = 0;
+  bool lo_set = false, median_set = false;
+  for (uint32_t i : order) {
+    acc += area[i];
+    if (!lo_set && acc >= kMinSideShare * total) lo = at[i], lo_set = true;
+    if (!median_set && acc >= 0.5 * total) median = at[i], median_set = true;
+    if (acc <= (1 - kMinSideShare) * total) hi = at[i];
+  }
+  if (!(hi > lo)) hi = lo = median;
+  // Edges crossed at each offset: an edge between projections p < q is
+  // crossed by the offsets in [p, q).
+  std::vector<double> offset(kCutOffsets);
+  for (int k = 0; k < kCutOffsets; ++k) offset[k] = lo + (hi - lo) * (k + 0.5) / kCutOffsets;
+  std::vector<int> crossed(kCutOffsets + 1, 0);
+  for (size_t i = 0; i < n; ++i)
+    for (uint32_t j : neighbour[i]) {
+      if (j == UINT32_MAX || j < i) continue;
+      const auto [p, q] = std::minmax(at[i], at[j]);
+      const int first = int(std::lower_bound(offset.begin(), offset.end(), p) - offset.begin());
+      const int last = int(std::lower_bound(offset.begin(), offset.end(), q) - offset.begin());
+      ++crossed[first], --crossed[last];
+    }
+  double best = median;
+  int best_count = INT32_MAX;
+  for (int k = 0, running = 0; k < kCutOffsets; ++k) {
+    running += crossed[k];
+    if (running < best_count ||
+        (running == best_count && std::abs(offset[k] - median) < std::abs(best - median)))
+      best_count = running, best = offset[k];
+  }
+  std::vector<uint8_t> side(n);
+  for (size_t i = 0; i < n; ++i) side[i] = at[i] >= best;
+  return side;
+}
+}  // namespace
 
 bool halve_island(UvLayout& L, uint32_t island) {
   std::vector<uint32_t> tris;
@@ -23,13 +90,6 @@ bool halve_island(UvLayout& L, uint32_t island) {
     centroid[i] = (L.uv[v[0]] + L.uv[v[1]] + L.uv[v[2]]) * (1.0 / 3);
     area[i] = 0.5 * std::abs(signed_area2(L, tris[i]));
   }
-  const std::vector<int> cut = atlas::area_median_sides(points, centroid, area);
-  if (cut.empty()) return false;
-  std::vector<uint8_t> side(cut.begin(), cut.end());
-
-  // The line's cut through triangles by centroid zigzags across thin ones
-  // (noisy soups' slivers): a triangle with two or three edge neighbours on
-  // the other side goes there, which shortens the seam; a few passes.
   std::vector<std::array<uint32_t, 3>> local(n);
   for (size_t i = 0; i < n; ++i) local[i] = L.corner_vertex[tris[i]];
   std::vector<std::array<uint32_t, 3>> neighbour(n, {UINT32_MAX, UINT32_MAX, UINT32_MAX});
@@ -49,6 +109,12 @@ bool halve_island(UvLayout& L, uint32_t island) {
         neighbour[y / 3][y % 3] = x / 3;
       }
   }
+  std::vector<uint8_t> side = cheapest_cut_sides(points, centroid, area, neighbour);
+  if (side.empty()) return false;
+
+  // The line's cut through triangles by centroid zigzags across thin ones
+  // (noisy soups' slivers): a triangle with two or three edge neighbours on
+  // the other side goes there, which shortens the seam; a few passes.
   for (int pass = 0; pass < 4; ++pass) {
     bool moved = false;
     for (size_t i = 0; i < n; ++i) {
@@ -122,9 +188,17 @@ std::vector<HalvingRound> halve_to_pack(const std::vector<geometry::AdjacentPair
       for (uint32_t t : islands[i]) area[i] += 0.5 * std::abs(signed_area2(trial, t));
     const double largest = *std::max_element(area.begin(), area.end());
     HalvingRound h;
+    const UvLayout before_round = trial;
     for (size_t i = 0; i < islands.size(); ++i)
       if (area[i] >= 0.5 * largest) h.halved += halve_island(trial, uint32_t(i));
     h.kept_pairs = kept_pair_share(pairs, trial);
+    // Halving all of them cuts too many pairs: the largest alone may not.
+    if (h.halved > 1 && h.kept_pairs < options.min_kept_pairs) {
+      trial = before_round;
+      const size_t big = size_t(std::max_element(area.begin(), area.end()) - area.begin());
+      h.halved = halve_island(trial, uint32_t(big));
+      h.kept_pairs = kept_pair_share(pairs, trial);
+    }
     if (h.halved == 0 || h.kept_pairs < options.min_kept_pairs) {
       rounds.push_back(h);
       break;

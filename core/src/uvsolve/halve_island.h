@@ -11,7 +11,9 @@
 //         island has fewer than two triangles or the cut does not leave two
 //         edge-connected halves.
 // Method: the line crosses the long side of the island's minimal-area
-//         rectangle at its area median (triangles by centroid); a
+//         rectangle where it cuts the fewest edges, each side keeping at
+//         least a third of the area (triangles by centroid; ties: nearest
+//         the area median); a
 //         triangle with two or three edge neighbours across the cut joins
 //         them (the seam gets shorter, a few passes); a piece of one side
 //         that touches the other only through it goes to the other side,
@@ -34,7 +36,8 @@ bool halve_island(UvLayout& layout, uint32_t island);
 // of at most max_islands islands whose packing `packed` (corner_uvs) fills
 // less than `below` of the square: up to `rounds` times, its islands of at
 // least half the largest's area are halved and the map packed again
-// (pack_islands.h); a round is kept (layout, corner_uvs and packed
+// (pack_islands.h) -- the largest alone where halving them all would cut
+// too many pairs --; a round is kept (layout, corner_uvs and packed
 // replaced) while it raises the utilisation and leaves at least
 // min_kept_pairs of the weld's pairs uncut. -> each round tried.
 struct HalvingOptions {

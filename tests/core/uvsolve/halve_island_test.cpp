@@ -1,6 +1,6 @@
-// Halving an island for packing: two edge-connected halves of about half
-// the area each, every corner keeping its UV, only the pairs across the cut
-// lost.
+// Halving an island for packing: two edge-connected halves of at least a
+// third of the area each, cut where the island is narrowest, every corner
+// keeping its UV, only the pairs across the cut lost.
 #include "uvsolve/halve_island.h"
 
 #include <gtest/gtest.h>
@@ -75,6 +75,31 @@ TEST(HalveIsland, LongGridIsCutAcrossItsLengthIntoTwoHalves) {
   const size_t lost = shared_edges(before) - shared_edges(L);
   EXPECT_GE(lost, 6u);
   EXPECT_LE(lost, 8u);
+}
+
+TEST(HalveIsland, ADumbbellIsCutThroughItsNeck) {
+  // A 10 x 8 and a 6 x 8 block joined by a neck of 4 x 2 cells along the
+  // bottom: a straight cut through the neck crosses two rows, through a
+  // block eight (the area median lies in the larger block); the neck cut
+  // leaves each side more than a third of the area.
+  const UvLayout grid = grid_island(20, 8);
+  UvLayout L;
+  L.uv = grid.uv;
+  for (size_t t = 0; t < grid.corner_vertex.size(); ++t) {
+    const int cell = int(t / 2), i = cell % 20, j = cell / 20;
+    if (i >= 10 && i < 14 && j >= 2) continue;
+    L.corner_vertex.push_back(grid.corner_vertex[t]);
+  }
+  L.island.assign(L.corner_vertex.size(), 0);
+  L.island_count = 1;
+  const size_t edges_before = shared_edges(L);
+  ASSERT_TRUE(uvsolve::detail::halve_island(L, 0));
+  EXPECT_LE(edges_before - shared_edges(L), 6u) << "the cut crosses the neck";
+  double area[2] = {0, 0};
+  for (size_t t = 0; t < L.corner_vertex.size(); ++t)
+    area[L.island[t]] += 0.5 * std::abs(uvsolve::detail::signed_area2(L, t));
+  EXPECT_GE(area[0], (area[0] + area[1]) / 3);
+  EXPECT_GE(area[1], (area[0] + area[1]) / 3);
 }
 
 TEST(HalveIsland, OneTriangleIsLeftAlone) {
