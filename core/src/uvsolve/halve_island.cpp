@@ -181,6 +181,9 @@ std::vector<HalvingRound> halve_to_pack(const std::vector<geometry::AdjacentPair
   std::vector<HalvingRound> rounds;
   if (layout.island_count > options.max_islands) return rounds;
   UvLayout trial = layout;
+  const double kept_before = kept_pair_share(pairs, layout);
+  const double min_kept = kept_before >= options.min_kept_pairs ? options.min_kept_pairs
+                                                                : kept_before - options.max_cut_below_target;
   for (int round = 0; round < options.rounds && packed.utilisation < options.below; ++round) {
     const auto islands = island_triangles(trial);
     std::vector<double> area(islands.size(), 0);
@@ -193,13 +196,13 @@ std::vector<HalvingRound> halve_to_pack(const std::vector<geometry::AdjacentPair
       if (area[i] >= 0.5 * largest) h.halved += halve_island(trial, uint32_t(i));
     h.kept_pairs = kept_pair_share(pairs, trial);
     // Halving all of them cuts too many pairs: the largest alone may not.
-    if (h.halved > 1 && h.kept_pairs < options.min_kept_pairs) {
+    if (h.halved > 1 && h.kept_pairs < min_kept) {
       trial = before_round;
       const size_t big = size_t(std::max_element(area.begin(), area.end()) - area.begin());
       h.halved = halve_island(trial, uint32_t(big));
       h.kept_pairs = kept_pair_share(pairs, trial);
     }
-    if (h.halved == 0 || h.kept_pairs < options.min_kept_pairs) {
+    if (h.halved == 0 || h.kept_pairs < min_kept) {
       rounds.push_back(h);
       break;
     }

@@ -39,12 +39,15 @@ bool halve_island(UvLayout& layout, uint32_t island);
 // (pack_islands.h) -- the largest alone where halving them all would cut
 // too many pairs --; a round is kept (layout, corner_uvs and packed
 // replaced) while it raises the utilisation and leaves at least
-// min_kept_pairs of the weld's pairs uncut. -> each round tried.
+// min_kept_pairs of the weld's pairs uncut (a map below that before
+// halving: all but max_cut_below_target of what it kept). -> each round
+// tried.
 struct HalvingOptions {
   uint32_t max_islands = 64;
   double below = 0.72;
   int rounds = 2;
   double min_kept_pairs = 0.95;
+  double max_cut_below_target = 0.015;  // the cut allowed where the map keeps fewer than min_kept_pairs
 };
 struct HalvingRound {
   size_t halved = 0;

@@ -59,10 +59,9 @@ struct Solved {
   std::vector<geometry::AdjacentPair> pairs;
 };
 
-Solved solve(const Case& c, double uv_per_length) {
+Solved solve(const Case& c, double uv_per_length, uvsolve::SoupUvOptions o = {}) {
   const geometry::Weld weld = geometry::weld_corners(c.soup, 1e-9);
   const std::vector<int> chart(3 * c.soup.triangles.size(), 0);
-  uvsolve::SoupUvOptions o;
   o.threads = 2;
   uvsolve::SoupUvResult r = uvsolve::solve_soup_uvs(c.soup, weld, c.uv, chart, uv_per_length, 1.0 / 1024, o,
                                                     Progress::none());
@@ -242,10 +241,8 @@ TEST(SoupUvSolve, ManyIslandsArePackedWithoutOverlapAndUseTheSquare) {
   EXPECT_GE(o.utilisation, 0.55);
 }
 
-
-TEST(SoupUvSolve, TwoLargeDiscsAreHalvedToFillTheSquare) {
-  // Two flat discs of radius 14 cells: two equal circles fill at most
-  // 2 pi / (2 + sqrt 2)^2 = 0.54 of a square, their halves fill more.
+// Two flat discs of radius 14 cells side by side, each mapped as it lies.
+Case two_discs() {
   Case c;
   for (int k = 0; k < 2; ++k) {
     const double x0 = 40.0 * k;
@@ -273,6 +270,13 @@ TEST(SoupUvSolve, TwoLargeDiscsAreHalvedToFillTheSquare) {
   for (size_t t = 0; t < discs.uv.size(); ++t)
     if (discs.soup.positions[discs.soup.triangles[t][0]].x >= 40)
       for (Vec2& p : discs.uv[t]) p.x += 0.5;
+  return discs;
+}
+
+TEST(SoupUvSolve, TwoLargeDiscsAreHalvedToFillTheSquare) {
+  // Two equal circles fill at most 2 pi / (2 + sqrt 2)^2 = 0.54 of a
+  // square, their halves fill more.
+  const Case discs = two_discs();
   const Solved s = solve(discs, 0.01);
   expect_sound(discs, s.uv);
   const quality::UvOverlap o = quality::uv_overlap(s.uv, std::vector<uint8_t>(s.uv.size(), 1));
@@ -281,6 +285,24 @@ TEST(SoupUvSolve, TwoLargeDiscsAreHalvedToFillTheSquare) {
   for (const auto& p : s.pairs) kept += continuous(s.uv, p);
   EXPECT_GE(double(kept) / double(s.pairs.size()), 0.95) << "halving keeps the continuity target";
   EXPECT_GT(s.diagnostics["pack"]["islands"].get<int>(), 2) << s.diagnostics["pack"].dump();
+}
+
+TEST(SoupUvSolve, AMapBelowTheContinuityTargetIsHalvedWithinItsAllowance) {
+  // A continuity target no map reaches (every map is below it): halving
+  // may cut at most halving_max_cut_below_target of the pairs more.
+  const Case discs = two_discs();
+  uvsolve::SoupUvOptions o;
+  o.halving_min_kept_pairs = 1.01;
+  o.halving_max_cut_below_target = 0.05;
+  const Solved halved = solve(discs, 0.01, o);
+  expect_sound(discs, halved.uv);
+  EXPECT_GT(halved.diagnostics["pack"]["islands"].get<int>(), 2) << halved.diagnostics["pack"].dump();
+  size_t kept = 0;
+  for (const auto& p : halved.pairs) kept += continuous(halved.uv, p);
+  EXPECT_GE(double(kept) / double(halved.pairs.size()), 1.0 - 0.05);
+  o.halving_max_cut_below_target = 0;
+  const Solved whole = solve(discs, 0.01, o);
+  EXPECT_EQ(whole.diagnostics["pack"]["islands"].get<int>(), 2) << whole.diagnostics["pack"].dump();
 }
 
 double point_segment_distance(Vec2 p, Vec2 a, Vec2 b) {

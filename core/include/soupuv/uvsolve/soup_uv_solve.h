@@ -90,12 +90,16 @@ struct SoupUvOptions {
   // the largest one's area are halved (halve_island.h) and the map packed
   // again; a round is kept while it raises the utilisation and leaves at
   // least halving_min_kept_pairs of the welded pairs uncut (the product's
-  // continuity target: halving never trades it away). The bar and the
-  // island count are the atlas's for its charts (atlas/build_atlas.h).
+  // continuity target: halving never trades it away); a map that keeps
+  // fewer pairs than that before halving may cut at most
+  // halving_max_cut_below_target of them more (its continuity misses the
+  // target either way; its utilisation need not). The bar and the island
+  // count are the atlas's for its charts (atlas/build_atlas.h).
   uint32_t halving_max_islands = 64;
   double halving_below = 0.72;
   int halving_rounds = 2;
   double halving_min_kept_pairs = 0.95;
+  double halving_max_cut_below_target = 0.015;
   int threads = 1;
 };
 
