@@ -195,12 +195,20 @@ std::vector<HalvingRound> halve_to_pack(const std::vector<geometry::AdjacentPair
     for (size_t i = 0; i < islands.size(); ++i)
       if (area[i] >= 0.5 * largest) h.halved += halve_island(trial, uint32_t(i));
     h.kept_pairs = kept_pair_share(pairs, trial);
-    // Halving all of them cuts too many pairs: the largest alone may not.
+    // Halving all of them cuts too many pairs: the one whose halving cuts
+    // the fewest alone may not.
     if (h.halved > 1 && h.kept_pairs < min_kept) {
-      trial = before_round;
-      const size_t big = size_t(std::max_element(area.begin(), area.end()) - area.begin());
-      h.halved = halve_island(trial, uint32_t(big));
-      h.kept_pairs = kept_pair_share(pairs, trial);
+      UvLayout best;
+      h.halved = 0;
+      h.kept_pairs = 0;
+      for (size_t i = 0; i < islands.size(); ++i) {
+        if (area[i] < 0.5 * largest) continue;
+        UvLayout one = before_round;
+        if (!halve_island(one, uint32_t(i))) continue;
+        const double kept = kept_pair_share(pairs, one);
+        if (kept > h.kept_pairs) h.kept_pairs = kept, h.halved = 1, best = std::move(one);
+      }
+      trial = h.halved ? std::move(best) : before_round;
     }
     if (h.halved == 0 || h.kept_pairs < min_kept) {
       rounds.push_back(h);

@@ -36,8 +36,8 @@ bool halve_island(UvLayout& layout, uint32_t island);
 // of at most max_islands islands whose packing `packed` (corner_uvs) fills
 // less than `below` of the square: up to `rounds` times, its islands of at
 // least half the largest's area are halved and the map packed again
-// (pack_islands.h) -- the largest alone where halving them all would cut
-// too many pairs --; a round is kept (layout, corner_uvs and packed
+// (pack_islands.h) -- where halving them all would cut too many pairs,
+// the one whose halving cuts the fewest alone --; a round is kept (layout, corner_uvs and packed
 // replaced) while it raises the utilisation and leaves at least
 // min_kept_pairs of the weld's pairs uncut (a map below that before
 // halving: all but max_cut_below_target of what it kept). -> each round
