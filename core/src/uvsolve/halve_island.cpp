@@ -182,9 +182,11 @@ std::vector<HalvingRound> halve_to_pack(const std::vector<geometry::AdjacentPair
   if (layout.island_count > options.max_islands) return rounds;
   UvLayout trial = layout;
   const double kept_before = kept_pair_share(pairs, layout);
-  const double min_kept = kept_before >= options.min_kept_pairs ? options.min_kept_pairs
-                                                                : kept_before - options.max_cut_below_target;
   for (int round = 0; round < options.rounds && packed.utilisation < options.below; ++round) {
+    // Below both targets, the utilisation's may cost a little continuity.
+    const double min_kept = kept_before < options.min_kept_pairs && packed.utilisation < options.utilisation_target
+                                ? kept_before - options.max_cut_below_target
+                                : options.min_kept_pairs;
     const auto islands = island_triangles(trial);
     std::vector<double> area(islands.size(), 0);
     for (size_t i = 0; i < islands.size(); ++i)

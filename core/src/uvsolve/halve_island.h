@@ -40,14 +40,17 @@ bool halve_island(UvLayout& layout, uint32_t island);
 // the one whose halving cuts the fewest alone --; a round is kept (layout, corner_uvs and packed
 // replaced) while it raises the utilisation and leaves at least
 // min_kept_pairs of the weld's pairs uncut (a map below that before
-// halving: all but max_cut_below_target of what it kept). -> each round
-// tried.
+// halving and packed below utilisation_target: all but
+// max_cut_below_target of what it kept). -> each round tried.
 struct HalvingOptions {
   uint32_t max_islands = 64;
   double below = 0.72;
   int rounds = 2;
   double min_kept_pairs = 0.95;
-  double max_cut_below_target = 0.015;  // the cut allowed where the map keeps fewer than min_kept_pairs
+  // A map that keeps fewer than min_kept_pairs and packs below
+  // utilisation_target may lose max_cut_below_target of what it kept.
+  double max_cut_below_target = 0.015;
+  double utilisation_target = 0.55;
 };
 struct HalvingRound {
   size_t halved = 0;

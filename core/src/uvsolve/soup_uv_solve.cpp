@@ -228,6 +228,7 @@ SoupUvResult solve_soup_uvs(const Soup& soup, const geometry::Weld& weld,
   ho.rounds = options.halving_rounds;
   ho.min_kept_pairs = options.halving_min_kept_pairs;
   ho.max_cut_below_target = options.halving_max_cut_below_target;
+  ho.utilisation_target = options.halving_utilisation_target;
   nlohmann::json halving = nlohmann::json::array();
   for (const detail::HalvingRound& h : detail::halve_to_pack(pairs, ho, options.texture_size, options.padding_px,
                                                               options.threads, layout, r.corner_uvs, pf)) {

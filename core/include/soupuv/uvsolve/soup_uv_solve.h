@@ -91,7 +91,8 @@ struct SoupUvOptions {
   // again; a round is kept while it raises the utilisation and leaves at
   // least halving_min_kept_pairs of the welded pairs uncut (the product's
   // continuity target: halving never trades it away); a map that keeps
-  // fewer pairs than that before halving may cut at most
+  // fewer pairs than that before halving and packs below
+  // halving_utilisation_target (the product's) may cut at most
   // halving_max_cut_below_target of them more (its continuity misses the
   // target either way; its utilisation need not). The bar and the island
   // count are the atlas's for its charts (atlas/build_atlas.h).
@@ -100,6 +101,7 @@ struct SoupUvOptions {
   int halving_rounds = 2;
   double halving_min_kept_pairs = 0.95;
   double halving_max_cut_below_target = 0.015;
+  double halving_utilisation_target = 0.55;
   int threads = 1;
 };
 
