@@ -274,9 +274,12 @@ PackFigures pack_islands(const UvLayout& L, int texture_size, double padding_px,
   // lying and standing: the first fit of the many small ones in the holes
   // left was most of the pack's time (table: 62 % of its CPU), and their
   // other turns gained little (table's utilisation -0.01 to -0.02, the
-  // other soups' unchanged). Few units keep the packer's full effort, which
-  // costs little there and holds utilisation on few-island maps
-  // (docs/tuning.md).
+  // other soups' unchanged). Fewer units keep the packer's turns and greedy
+  // variants, which hold utilisation on few-island maps, but their scale
+  // search too stops within 1 % (of the scale; 2 % of the area): its
+  // last bisections cost 0.1-0.2 s a map and gained 0-1 % of the area
+  // (docs/tuning.md, session 33). Maps of at most kFewUnits pieces keep the
+  // full search (their portfolio below).
   if (units.size() > 200) {
     ro.angles = 8;
     ro.precision = 1.01;
@@ -285,6 +288,8 @@ PackFigures pack_islands(const UvLayout& L, int texture_size, double padding_px,
     ro.pilot_charts = 8;
     ro.small_chart_share = 0.001;
     ro.small_chart_angles = 2;
+  } else if (units.size() > kFewUnits) {
+    ro.precision = 1.01;
   }
   // Few units: the packing is a greedy whose outcome turns on small
   // differences (the corpus's boxes, three pieces: 0.548 of the square at
