@@ -38,6 +38,15 @@ SeamSmoothFigures smooth_seams(const Soup& soup, const std::vector<geometry::Adj
   const PairsByTriangle by_triangle(pairs, n);
 
   VertexTriangles incidence(L);
+  // Moves in or out of each island so far, and per triangle the island a
+  // relaxed join was last refused into with that island's count then: the
+  // same attempt on an unchanged island is refused again (its patch, the
+  // only thing the relaxation and its tests read, is the same).
+  std::vector<uint32_t> changes(L.island_count, 0);
+  struct Refused {
+    uint32_t island = UINT32_MAX, changes = 0;
+  };
+  std::vector<Refused> relax_refused(n);
   auto rest_of = [&](uint32_t t) {
     return transfer::detail::rest_triangle(soup.corner(t, 0), soup.corner(t, 1), soup.corner(t, 2), uv_per_length,
                                            1.0);
@@ -155,21 +164,26 @@ SeamSmoothFigures smooth_seams(const Soup& soup, const std::vector<geometry::Adj
         ++f.candidates;
         const Corners c{L.uv[side.vertex[0]], L.uv[side.vertex[1]], L.uv[side.vertex[2]]};
         const Refusal why = refusal(c, t, side.island);
+        const uint32_t from = own;
         if (why == Refusal::none) {
           incidence.remove(t, L.corner_vertex[t]), incidence.add(t, side.vertex);
           L.corner_vertex[t] = side.vertex;
           L.island[t] = side.island;
           grid.insert(side.island, t, c);
+          ++changes[from], ++changes[side.island];
           ++f.moved;
           again = true;
           break;
         }
-        if (relax_into(t, side.island, side.vertex)) {
+        const bool tried = relax_refused[t].island == side.island && relax_refused[t].changes == changes[side.island];
+        if (!tried && relax_into(t, side.island, side.vertex)) {
+          ++changes[from], ++changes[side.island];
           ++f.moved;
           ++f.relaxed;
           again = true;
           break;
         }
+        if (!tried) relax_refused[t] = {side.island, changes[side.island]};
         why == Refusal::fold ? ++f.refused_fold : why == Refusal::stretch ? ++f.refused_stretch : ++f.refused_overlap;
       }
     }
