@@ -129,7 +129,7 @@ void append_island(const UvLayout& L, const std::vector<uint32_t>& tris, Vec2 sh
 }  // namespace
 
 PackFigures pack_islands(const UvLayout& L, int texture_size, double padding_px, int threads,
-                         std::vector<std::array<Vec2, 3>>& corner_uvs) {
+                         std::vector<std::array<Vec2, 3>>& corner_uvs, PackEffort effort) {
   const int raster = std::min(texture_size, kMaxPackRaster);
   const double raster_padding = padding_px * raster / texture_size;
   const auto islands = island_triangles(L);
@@ -280,7 +280,10 @@ PackFigures pack_islands(const UvLayout& L, int texture_size, double padding_px,
   // last bisections cost 0.1-0.2 s a map and gained 0-1 % of the area
   // (docs/tuning.md, session 33). Maps of at most kFewUnits pieces keep the
   // full search (their portfolio below).
-  if (units.size() > 200) {
+  // The thorough effort packs a few pieces the same way: the pilot rule
+  // is what it is for, and at 16 turns, nine packings and the greedy
+  // variants it cost up to 5 s a map (CesiumMan) for the same gain.
+  if (units.size() > 200 || effort == PackEffort::thorough) {
     ro.angles = 8;
     ro.precision = 1.01;
     ro.max_packings = 4;
@@ -291,6 +294,7 @@ PackFigures pack_islands(const UvLayout& L, int texture_size, double padding_px,
   } else if (units.size() > kFewUnits) {
     ro.precision = 1.01;
   }
+
   // Few units: the packing is a greedy whose outcome turns on small
   // differences (the corpus's boxes, three pieces: 0.548 of the square at
   // 16 turns, 0.571 at 24, 0.586 at 32), and each packing costs little, so

@@ -30,7 +30,16 @@ struct PackFigures {
   size_t grouped_islands = 0;  // small islands packed in rows first, as groups
 };
 
+// How hard the packer tries. thorough: a map of at most kThoroughMaxUnits
+// pieces is packed as maps of many are, its largest pieces placed by the
+// packer's pilot rule (atlas/raster_pack.h: each takes the turn after
+// which the next three large ones stack lowest). Few-piece maps pack
+// denser so, but it costs 0.2-1.5 s a map (docs/tuning.md, session 33):
+// for maps that otherwise miss the utilisation target.
+enum class PackEffort { normal, thorough };
+constexpr size_t kThoroughMaxUnits = 200;
+
 PackFigures pack_islands(const UvLayout& layout, int texture_size, double padding_px, int threads,
-                         std::vector<std::array<Vec2, 3>>& corner_uvs);
+                         std::vector<std::array<Vec2, 3>>& corner_uvs, PackEffort effort = PackEffort::normal);
 
 }  // namespace soupuv::uvsolve::detail

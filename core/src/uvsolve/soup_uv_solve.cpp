@@ -228,13 +228,23 @@ SoupUvResult solve_soup_uvs(const Soup& soup, const geometry::Weld& weld,
   ho.rounds = options.halving_rounds;
   ho.min_kept_pairs = options.halving_min_kept_pairs;
   ho.max_cut_below_target = options.halving_max_cut_below_target;
-  ho.utilisation_target = options.halving_utilisation_target;
+  ho.utilisation_target = options.utilisation_target;
   nlohmann::json halving = nlohmann::json::array();
   for (const detail::HalvingRound& h : detail::halve_to_pack(pairs, ho, options.texture_size, options.padding_px,
                                                               options.threads, layout, r.corner_uvs, pf)) {
     nlohmann::json j = {{"halved", h.halved}, {"kept_pairs", h.kept_pairs}};
     if (h.packed) j["utilisation"] = h.utilisation, j["kept"] = h.kept;
     halving.push_back(j);
+  }
+  // Still below the utilisation target: packed again the thorough way,
+  // kept where denser (it costs seconds, so only here).
+  nlohmann::json thorough;
+  if (pf.utilisation < options.utilisation_target && pf.units <= detail::kThoroughMaxUnits) {
+    std::vector<std::array<Vec2, 3>> uvs;
+    const detail::PackFigures tried = detail::pack_islands(layout, options.texture_size, options.padding_px,
+                                                           options.threads, uvs, detail::PackEffort::thorough);
+    thorough = {{"utilisation", tried.utilisation}, {"kept", tried.utilisation > pf.utilisation}};
+    if (tried.utilisation > pf.utilisation) pf = tried, r.corner_uvs = std::move(uvs);
   }
   d["pack"] = {{"islands", layout.island_count},
                {"texels_per_uv", pf.texels_per_uv},
@@ -243,6 +253,7 @@ SoupUvResult solve_soup_uvs(const Soup& soup, const geometry::Weld& weld,
                {"units", pf.units},
                {"grouped_islands", pf.grouped_islands},
                {"halving", halving},
+               {"thorough", thorough},
                {"kept_pairs", detail::kept_pair_share(pairs, layout)},
                {"seconds", since(t4)}};
   d["seconds"] = since(t0);

@@ -287,6 +287,25 @@ TEST(SoupUvSolve, TwoLargeDiscsAreHalvedToFillTheSquare) {
   EXPECT_GT(s.diagnostics["pack"]["islands"].get<int>(), 2) << s.diagnostics["pack"].dump();
 }
 
+TEST(SoupUvSolve, AMapStillBelowTheUtilisationTargetIsPackedAgainThoroughly) {
+  // Two discs, not halved: two equal circles fill at most 0.54 of the
+  // square, below the target; the thorough packing is tried and kept only
+  // where denser.
+  const Case discs = two_discs();
+  uvsolve::SoupUvOptions o;
+  o.halving_max_islands = 0;
+  const Solved tried = solve(discs, 0.01, o);
+  expect_sound(discs, tried.uv);
+  const auto& pack = tried.diagnostics["pack"];
+  ASSERT_TRUE(pack["thorough"].is_object()) << pack.dump();
+  o.utilisation_target = 0;  // never below: no second packing
+  const Solved plain = solve(discs, 0.01, o);
+  EXPECT_TRUE(plain.diagnostics["pack"]["thorough"].is_null());
+  EXPECT_GE(pack["utilisation"].get<double>(), plain.diagnostics["pack"]["utilisation"].get<double>());
+  EXPECT_EQ(pack["thorough"]["kept"].get<bool>(),
+            pack["thorough"]["utilisation"].get<double>() > plain.diagnostics["pack"]["utilisation"].get<double>());
+}
+
 TEST(SoupUvSolve, AMapBelowTheContinuityTargetIsHalvedWithinItsAllowance) {
   // A continuity target no map reaches (every map is below it): halving
   // may cut at most halving_max_cut_below_target of the pairs more.

@@ -37,7 +37,9 @@
 //         7. Pack (pack_islands.h): the bitmap packer at one density. A
 //            map of a few large islands that packs poorly has its largest
 //            islands halved along straight UV lines (halve_island.h) and is
-//            packed again, where that gains and keeps the continuity target.
+//            packed again, where that gains and keeps the continuity target;
+//            one still below the utilisation target is packed again the
+//            thorough way (pilot rule), kept where denser.
 // Cost  : O(n log n) besides the solve's sparse factorisations.
 #pragma once
 
@@ -92,16 +94,19 @@ struct SoupUvOptions {
   // least halving_min_kept_pairs of the welded pairs uncut (the product's
   // continuity target: halving never trades it away); a map that keeps
   // fewer pairs than that before halving and packs below
-  // halving_utilisation_target (the product's) may cut at most
-  // halving_max_cut_below_target of them more (its continuity misses the
-  // target either way; its utilisation need not). The bar and the island
-  // count are the atlas's for its charts (atlas/build_atlas.h).
+  // utilisation_target may cut at most halving_max_cut_below_target of
+  // them more (its continuity misses the target either way; its
+  // utilisation need not). The bar and the island count are the atlas's
+  // for its charts (atlas/build_atlas.h).
   uint32_t halving_max_islands = 64;
   double halving_below = 0.72;
   int halving_rounds = 2;
   double halving_min_kept_pairs = 0.95;
   double halving_max_cut_below_target = 0.015;
-  double halving_utilisation_target = 0.55;
+  // The product's utilisation target: a map still packed below it after
+  // halving is packed again the thorough way (pack_islands.h), kept where
+  // denser.
+  double utilisation_target = 0.55;
   int threads = 1;
 };
 
