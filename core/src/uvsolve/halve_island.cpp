@@ -175,7 +175,8 @@ bool halve_island(UvLayout& L, uint32_t island) {
 }
 
 std::vector<HalvingRound> halve_to_pack(const std::vector<geometry::AdjacentPair>& pairs,
-                                        const HalvingOptions& options, int texture_size, double padding_px,
+                                        const HalvingOptions& options, double utilisation_target,
+                                        int texture_size, double padding_px,
                                         int threads, UvLayout& layout,
                                         std::vector<std::array<Vec2, 3>>& corner_uvs, PackFigures& packed) {
   std::vector<HalvingRound> rounds;
@@ -184,7 +185,7 @@ std::vector<HalvingRound> halve_to_pack(const std::vector<geometry::AdjacentPair
   const double kept_before = kept_pair_share(pairs, layout);
   for (int round = 0; round < options.rounds && packed.utilisation < options.below; ++round) {
     // Below both targets, the utilisation's may cost a little continuity.
-    const double min_kept = kept_before < options.min_kept_pairs && packed.utilisation < options.utilisation_target
+    const double min_kept = kept_before < options.min_kept_pairs && packed.utilisation < utilisation_target
                                 ? kept_before - options.max_cut_below_target
                                 : options.min_kept_pairs;
     const auto islands = island_triangles(trial);

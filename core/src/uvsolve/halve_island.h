@@ -25,6 +25,7 @@
 #include <vector>
 
 #include "soupuv/geometry/weld.h"
+#include "soupuv/uvsolve/soup_uv_solve.h"
 #include "uvsolve/pack_islands.h"
 #include "uvsolve/uv_layout.h"
 
@@ -32,26 +33,16 @@ namespace soupuv::uvsolve::detail {
 
 bool halve_island(UvLayout& layout, uint32_t island);
 
-// Packing with halving (soup_uv_solve.h, SoupUvOptions::halving_*). A map
-// of at most max_islands islands whose packing `packed` (corner_uvs) fills
-// less than `below` of the square: up to `rounds` times, its islands of at
-// least half the largest's area are halved and the map packed again
-// (pack_islands.h) -- where halving them all would cut too many pairs,
-// the one whose halving cuts the fewest alone --; a round is kept (layout, corner_uvs and packed
+// Packing with halving (HalvingOptions, soup_uv_solve.h). A map whose
+// packing `packed` (corner_uvs) fills less than options.below of the
+// square: up to options.rounds times, its islands of at least half the
+// largest's area are halved and the map packed again (pack_islands.h) --
+// where halving them all would cut too many pairs, the one whose halving
+// cuts the fewest alone --; a round is kept (layout, corner_uvs and packed
 // replaced) while it raises the utilisation and leaves at least
 // min_kept_pairs of the weld's pairs uncut (a map below that before
 // halving and packed below utilisation_target: all but
 // max_cut_below_target of what it kept). -> each round tried.
-struct HalvingOptions {
-  uint32_t max_islands = 64;
-  double below = 0.72;
-  int rounds = 2;
-  double min_kept_pairs = 0.95;
-  // A map that keeps fewer than min_kept_pairs and packs below
-  // utilisation_target may lose max_cut_below_target of what it kept.
-  double max_cut_below_target = 0.015;
-  double utilisation_target = 0.55;
-};
 struct HalvingRound {
   size_t halved = 0;
   double kept_pairs = 0;  // after the cut
@@ -60,7 +51,8 @@ struct HalvingRound {
   bool kept = false;
 };
 std::vector<HalvingRound> halve_to_pack(const std::vector<geometry::AdjacentPair>& pairs,
-                                        const HalvingOptions& options, int texture_size, double padding_px,
+                                        const HalvingOptions& options, double utilisation_target,
+                                        int texture_size, double padding_px,
                                         int threads, UvLayout& layout,
                                         std::vector<std::array<Vec2, 3>>& corner_uvs, PackFigures& packed);
 

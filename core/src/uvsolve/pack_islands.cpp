@@ -283,7 +283,7 @@ PackFigures pack_islands(const UvLayout& L, int texture_size, double padding_px,
   // The thorough effort packs a few pieces the same way: the pilot rule
   // is what it is for, and at 16 turns, nine packings and the greedy
   // variants it cost up to 5 s a map (CesiumMan) for the same gain.
-  if (units.size() > 200 || effort == PackEffort::thorough) {
+  if (units.size() > kThoroughMaxUnits || effort == PackEffort::thorough) {
     ro.angles = 8;
     ro.precision = 1.01;
     ro.max_packings = 4;

@@ -37,6 +37,7 @@ struct PackFigures {
 // denser so, but it costs 0.2-1.5 s a map (docs/tuning.md, session 33):
 // for maps that otherwise miss the utilisation target.
 enum class PackEffort { normal, thorough };
+// Above this many pieces every packing is made the thorough way already.
 constexpr size_t kThoroughMaxUnits = 200;
 
 PackFigures pack_islands(const UvLayout& layout, int texture_size, double padding_px, int threads,

@@ -222,16 +222,10 @@ SoupUvResult solve_soup_uvs(const Soup& soup, const geometry::Weld& weld,
                                                 options.threads, r.corner_uvs);
   // Few large islands fill the square badly: halved and packed again where
   // that gains (halve_island.h).
-  detail::HalvingOptions ho;
-  ho.max_islands = options.halving_max_islands;
-  ho.below = options.halving_below;
-  ho.rounds = options.halving_rounds;
-  ho.min_kept_pairs = options.halving_min_kept_pairs;
-  ho.max_cut_below_target = options.halving_max_cut_below_target;
-  ho.utilisation_target = options.utilisation_target;
   nlohmann::json halving = nlohmann::json::array();
-  for (const detail::HalvingRound& h : detail::halve_to_pack(pairs, ho, options.texture_size, options.padding_px,
-                                                              options.threads, layout, r.corner_uvs, pf)) {
+  for (const detail::HalvingRound& h :
+       detail::halve_to_pack(pairs, options.halving, options.utilisation_target, options.texture_size,
+                             options.padding_px, options.threads, layout, r.corner_uvs, pf)) {
     nlohmann::json j = {{"halved", h.halved}, {"kept_pairs", h.kept_pairs}};
     if (h.packed) j["utilisation"] = h.utilisation, j["kept"] = h.kept;
     halving.push_back(j);

@@ -293,7 +293,7 @@ TEST(SoupUvSolve, AMapStillBelowTheUtilisationTargetIsPackedAgainThoroughly) {
   // where denser.
   const Case discs = two_discs();
   uvsolve::SoupUvOptions o;
-  o.halving_max_islands = 0;
+  o.halving.max_islands = 0;
   const Solved tried = solve(discs, 0.01, o);
   expect_sound(discs, tried.uv);
   const auto& pack = tried.diagnostics["pack"];
@@ -308,18 +308,18 @@ TEST(SoupUvSolve, AMapStillBelowTheUtilisationTargetIsPackedAgainThoroughly) {
 
 TEST(SoupUvSolve, AMapBelowTheContinuityTargetIsHalvedWithinItsAllowance) {
   // A continuity target no map reaches (every map is below it): halving
-  // may cut at most halving_max_cut_below_target of the pairs more.
+  // may cut at most halving.max_cut_below_target of the pairs more.
   const Case discs = two_discs();
   uvsolve::SoupUvOptions o;
-  o.halving_min_kept_pairs = 1.01;
-  o.halving_max_cut_below_target = 0.05;
+  o.halving.min_kept_pairs = 1.01;
+  o.halving.max_cut_below_target = 0.05;
   const Solved halved = solve(discs, 0.01, o);
   expect_sound(discs, halved.uv);
   EXPECT_GT(halved.diagnostics["pack"]["islands"].get<int>(), 2) << halved.diagnostics["pack"].dump();
   size_t kept = 0;
   for (const auto& p : halved.pairs) kept += continuous(halved.uv, p);
   EXPECT_GE(double(kept) / double(halved.pairs.size()), 1.0 - 0.05);
-  o.halving_max_cut_below_target = 0;
+  o.halving.max_cut_below_target = 0;
   const Solved whole = solve(discs, 0.01, o);
   EXPECT_EQ(whole.diagnostics["pack"]["islands"].get<int>(), 2) << whole.diagnostics["pack"].dump();
 }

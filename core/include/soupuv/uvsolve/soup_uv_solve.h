@@ -54,6 +54,25 @@
 
 namespace soupuv::uvsolve {
 
+// Maps of at most max_islands islands packed below `below` utilisation: up
+// to `rounds` times, the islands of at least half the largest one's area
+// are halved where the cut crosses the fewest edges (halve_island.h) and
+// the map packed again; a round is kept while it raises the utilisation
+// and leaves at least min_kept_pairs of the welded pairs uncut (the
+// product's continuity target: halving never trades it away). A map that
+// keeps fewer pairs than that before halving and packs below
+// SoupUvOptions::utilisation_target may cut at most max_cut_below_target
+// of them more (its continuity misses the target either way; its
+// utilisation need not). The bar and the island count are the atlas's for
+// its charts (atlas/build_atlas.h).
+struct HalvingOptions {
+  uint32_t max_islands = 64;
+  double below = 0.72;
+  int rounds = 2;
+  double min_kept_pairs = 0.95;
+  double max_cut_below_target = 0.015;
+};
+
 struct SoupUvOptions {
   int texture_size = 1024;     // packing raster, texels per side
   double padding_px = 2;       // texels between islands
@@ -87,25 +106,11 @@ struct SoupUvOptions {
   // that folds and stretches nothing and laps within the same budget
   // (seam_smooth.h). Off: every triangle stays where the steps above put it.
   bool smooth_seams = true;
-  // Maps of at most halving_max_islands islands packed below halving_below
-  // utilisation: up to halving_rounds times, the islands of at least half
-  // the largest one's area are halved (halve_island.h) and the map packed
-  // again; a round is kept while it raises the utilisation and leaves at
-  // least halving_min_kept_pairs of the welded pairs uncut (the product's
-  // continuity target: halving never trades it away); a map that keeps
-  // fewer pairs than that before halving and packs below
-  // utilisation_target may cut at most halving_max_cut_below_target of
-  // them more (its continuity misses the target either way; its
-  // utilisation need not). The bar and the island count are the atlas's
-  // for its charts (atlas/build_atlas.h).
-  uint32_t halving_max_islands = 64;
-  double halving_below = 0.72;
-  int halving_rounds = 2;
-  double halving_min_kept_pairs = 0.95;
-  double halving_max_cut_below_target = 0.015;
+  // Halving a few large islands for packing (HalvingOptions above).
+  HalvingOptions halving;
   // The product's utilisation target: a map still packed below it after
   // halving is packed again the thorough way (pack_islands.h), kept where
-  // denser.
+  // denser; halving.max_cut_below_target applies below it too.
   double utilisation_target = 0.55;
   int threads = 1;
 };
