@@ -208,6 +208,10 @@ std::vector<MapFlag> make_table() {
          "keep every small island apart (by default an island whose padding would take more texels than it does is "
          "attached rigidly to a neighbouring island where that folds, laps and stretches nothing)",
          [](MapArgs& m) { opt(m).uv_solve.attach_small_islands = false; }),
+      sw("--no-uv-sliver-stacks", kSolve,
+         "keep stacks of slivers thinner than the noise in the islands the steps before gave them (by default each "
+         "stack is laid out as one grid, its slivers ranked by height)",
+         [](MapArgs& m) { opt(m).uv_solve.sliver_stacks = false; }),
       val("--uv-overlap-samples", "F", number_in(0.25, 8), kSolve, "overlap samples per texel side (2)",
           [](MapArgs& m, const std::string& v) { opt(m).uv_solve.overlap_samples_per_texel = num(v); }),
   };

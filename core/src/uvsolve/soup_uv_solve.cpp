@@ -12,6 +12,7 @@
 #include "uvsolve/reembed.h"
 #include "uvsolve/seam_merge.h"
 #include "uvsolve/seam_smooth.h"
+#include "uvsolve/sliver_stack.h"
 #include "uvsolve/union_merge.h"
 #include "uvsolve/untangle.h"
 #include "uvsolve/uv_mesh.h"
@@ -215,6 +216,20 @@ SoupUvResult solve_soup_uvs(const Soup& soup, const geometry::Weld& weld,
                         {"islands", layout.island_count},
                         {"kept_pairs", detail::kept_pair_share(pairs, layout)},
                         {"seconds", since(t_smooth)}};
+  }
+
+  // Stacks of slivers the noise scrambles: one grid each, ranked by height.
+  if (options.sliver_stacks) {
+    auto t_stack = Clock::now();
+    const detail::SliverStackFigures sf = detail::lay_sliver_stacks(soup, pairs, uv_per_length, layout);
+    d["sliver_stacks"] = {{"noise", sf.noise},
+                          {"stacks", sf.stacks},
+                          {"columns", sf.columns},
+                          {"triangles", sf.triangles},
+                          {"skipped_stacks", sf.skipped_stacks},
+                          {"islands", layout.island_count},
+                          {"kept_pairs", detail::kept_pair_share(pairs, layout)},
+                          {"seconds", since(t_stack)}};
   }
 
   auto t4 = Clock::now();

@@ -106,6 +106,10 @@ struct SoupUvOptions {
   // that folds and stretches nothing and laps within the same budget
   // (seam_smooth.h). Off: every triangle stays where the steps above put it.
   bool smooth_seams = true;
+  // Stacks of slivers thinner than the noise, each laid out as one grid of
+  // rows ranked by height (sliver_stack.h). Off: they keep the islands the
+  // steps above gave them.
+  bool sliver_stacks = true;
   // Halving a few large islands for packing (HalvingOptions above).
   HalvingOptions halving;
   // The product's utilisation target: a map still packed below it after

@@ -1,0 +1,301 @@
+#include "uvsolve/sliver_stack.h"
+
+#include <algorithm>
+#include <cmath>
+#include <map>
+
+#include "soupuv/union_find.h"
+
+namespace soupuv::uvsolve::detail {
+namespace {
+
+// A sliver: altitude below this many noise amplitudes (a row of the stack
+// is thinner than twice the amplitude; the noise adds up to about two more
+// across and two more off the plane, and a sliver left out leaves a hole in
+// its column) ...
+constexpr double kThinNoise = 6;
+// ... and below this share of its longest edge, which is at least this
+// many amplitudes long (its ends resolved, well apart from the next
+// column's).
+constexpr double kMaxAspect = 0.25;
+constexpr double kLongNoise = 8;
+// Welded slivers whose long edges meet at a cosine of at least this are in
+// one stack (a sliver's long edge is at least 8 amplitudes long, so the
+// noise turns it by at most ~14 degrees at the extreme; a stack's columns
+// share their direction).
+constexpr double kParallelCos = 0.95;
+// Column ends closer than this many amplitudes along the stack are one
+// column boundary.
+constexpr double kEndGapNoise = 3;
+// A stack is flat across when its corners' RMS distance from its plane is
+// at most this many amplitudes (uniform noise alone: 1 / sqrt 3).
+constexpr double kFlatNoise = 1;
+
+struct Sliver {
+  uint32_t t;
+  int tip;           // corner opposite the shortest edge
+  bool short_left;   // the short edge at the lower end along the stack
+  double lo, hi;     // the two ends along the stack (short edge's middle, tip)
+  double height;     // centroid across the stack
+  int column = -1;   // index of its lower boundary
+};
+
+Vec3 any_perpendicular(Vec3 u) {
+  const Vec3 a = std::fabs(u.x) < 0.6 ? Vec3{1, 0, 0} : Vec3{0, 1, 0};
+  return normalized(cross(u, a));
+}
+
+double estimate_noise(const Soup& soup, const std::vector<geometry::AdjacentPair>& pairs) {
+  double sum = 0;
+  size_t count = 0;
+  for (const auto& p : pairs)
+    for (int k = 0; k < 2; ++k) {
+      sum += norm2(soup.corner(p.a, p.a_corner[k]) - soup.corner(p.b, p.b_corner[k]));
+      ++count;
+    }
+  return count ? std::sqrt(sum / double(count) / 2) : 0;
+}
+
+}  // namespace
+
+SliverStackFigures lay_sliver_stacks(const Soup& soup, const std::vector<geometry::AdjacentPair>& pairs,
+                                     double uv_per_length, UvLayout& layout) {
+  SliverStackFigures fig;
+  const double a = estimate_noise(soup, pairs);
+  fig.noise = a;
+  if (!(a > 0)) return fig;
+  const size_t n = soup.triangles.size();
+
+  // Slivers and their long direction.
+  std::vector<uint8_t> thin(n, 0);
+  std::vector<Vec3> along(n);
+  std::vector<int> tip(n, 0);
+  for (size_t t = 0; t < n; ++t) {
+    double len[3];
+    for (int k = 0; k < 3; ++k) len[k] = norm(soup.corner(t, (k + 2) % 3) - soup.corner(t, (k + 1) % 3));
+    // len[k]: the edge opposite corner k.
+    const int longest = int(std::max_element(len, len + 3) - len);
+    const int shortest = int(std::min_element(len, len + 3) - len);
+    const double area2 = norm(cross(soup.corner(t, 1) - soup.corner(t, 0), soup.corner(t, 2) - soup.corner(t, 0)));
+    const double altitude = len[longest] > 0 ? area2 / len[longest] : 0;
+    if (shortest == longest || len[longest] < kLongNoise * a || altitude >= kThinNoise * a ||
+        altitude >= kMaxAspect * len[longest])
+      continue;
+    thin[t] = 1;
+    tip[t] = shortest;
+    along[t] = normalized(soup.corner(t, (longest + 2) % 3) - soup.corner(t, (longest + 1) % 3));
+  }
+
+  // Groups: slivers welded to each other along parallel long edges.
+  UnionFind groups(n);
+  for (const auto& p : pairs)
+    if (thin[p.a] && thin[p.b] && std::fabs(dot(along[p.a], along[p.b])) >= kParallelCos) groups.unite(p.a, p.b);
+  std::map<uint32_t, std::vector<uint32_t>> members;
+  for (size_t t = 0; t < n; ++t)
+    if (thin[t]) members[groups.find(uint32_t(t))].push_back(uint32_t(t));
+
+  for (auto& [root, tris] : members) {
+    if (tris.size() < 4) continue;
+    // The stack's frame: u along the slivers, v across them in the plane
+    // of their corners (the larger spread perpendicular to u), w normal.
+    Vec3 u{0, 0, 0};
+    for (uint32_t t : tris) u += dot(along[t], along[tris[0]]) >= 0 ? along[t] : -along[t];
+    u = normalized(u);
+    const Vec3 e1 = any_perpendicular(u), e2 = cross(u, e1);
+    double m1 = 0, m2 = 0;
+    for (uint32_t t : tris)
+      for (int k = 0; k < 3; ++k) m1 += dot(soup.corner(t, k), e1), m2 += dot(soup.corner(t, k), e2);
+    const double count = 3.0 * double(tris.size());
+    m1 /= count, m2 /= count;
+    double c11 = 0, c12 = 0, c22 = 0;
+    for (uint32_t t : tris)
+      for (int k = 0; k < 3; ++k) {
+        const double x = dot(soup.corner(t, k), e1) - m1, y = dot(soup.corner(t, k), e2) - m2;
+        c11 += x * x, c12 += x * y, c22 += y * y;
+      }
+    // The smaller eigenvalue of the 2x2 covariance: the spread off the plane.
+    const double tr = c11 + c22, det = c11 * c22 - c12 * c12;
+    const double small = 0.5 * (tr - std::sqrt(std::max(0.0, tr * tr - 4 * det)));
+    const double big = tr - small;
+    if (std::sqrt(small / count) > kFlatNoise * a) {
+      ++fig.skipped_stacks;
+      continue;
+    }
+    // The eigenvector of the larger eigenvalue.
+    Vec3 v = std::fabs(c12) > 1e-300 ? normalized((big - c22) * e1 + c12 * e2) : (c11 >= c22 ? e1 : e2);
+
+    // Each sliver's ends along u and height along v.
+    std::vector<Sliver> s;
+    s.reserve(tris.size());
+    for (uint32_t t : tris) {
+      const int k = tip[t];
+      const Vec3 mid = 0.5 * (soup.corner(t, (k + 1) % 3) + soup.corner(t, (k + 2) % 3));
+      const double tip_u = dot(soup.corner(t, k), u), mid_u = dot(mid, u);
+      Sliver x;
+      x.t = t;
+      x.tip = k;
+      x.short_left = mid_u < tip_u;
+      x.lo = std::min(tip_u, mid_u);
+      x.hi = std::max(tip_u, mid_u);
+      x.height = dot(soup.corner(t, 0) + soup.corner(t, 1) + soup.corner(t, 2), v) / 3;
+      s.push_back(x);
+    }
+    // Column boundaries: the ends clustered along u.
+    std::vector<double> ends;
+    for (const Sliver& x : s) ends.push_back(x.lo), ends.push_back(x.hi);
+    std::sort(ends.begin(), ends.end());
+    std::vector<double> boundary;  // cluster means
+    std::vector<double> cut;       // upper limit of each cluster
+    {
+      double sum = ends[0];
+      int members_in = 1;
+      for (size_t i = 1; i <= ends.size(); ++i) {
+        if (i == ends.size() || ends[i] - ends[i - 1] > kEndGapNoise * a) {
+          boundary.push_back(sum / members_in);
+          cut.push_back(i < ends.size() ? 0.5 * (ends[i - 1] + ends[i]) : INFINITY);
+          if (i == ends.size()) break;
+          sum = 0, members_in = 0;
+        }
+        sum += ends[i], ++members_in;
+      }
+    }
+    auto cluster_of = [&](double e) { return int(std::lower_bound(cut.begin(), cut.end(), e) - cut.begin()); };
+    // Columns: slivers spanning two consecutive boundaries.
+    std::map<int, std::vector<int>> column_left, column_right;  // short edge left / right
+    for (int i = 0; i < int(s.size()); ++i) {
+      const int b0 = cluster_of(s[i].lo), b1 = cluster_of(s[i].hi);
+      if (b1 != b0 + 1) continue;
+      s[i].column = b0;
+      (s[i].short_left ? column_left : column_right)[b0].push_back(i);
+    }
+    // Rows: the count most columns have on their fuller side. A column with
+    // more slivers, or fewer than half as many on a side, is left to its
+    // islands; one with a few missing (joined to the stack by no weld pair
+    // or not thin enough under the noise) has its slivers placed in order in
+    // the rows nearest their heights.
+    std::map<size_t, int> votes;
+    for (const auto& [c, l] : column_left) {
+      auto r = column_right.find(c);
+      if (r != column_right.end()) ++votes[std::max(l.size(), r->second.size())];
+    }
+    if (votes.empty()) {
+      ++fig.skipped_stacks;
+      continue;
+    }
+    const size_t rows = std::max_element(votes.begin(), votes.end(), [](auto& x, auto& y) {
+                          return x.second < y.second || (x.second == y.second && x.first < y.first);
+                        })->first;
+    std::vector<int> columns;
+    for (const auto& [c, l] : column_left) {
+      auto r = column_right.find(c);
+      if (r == column_right.end()) continue;
+      const size_t fewer = std::min(l.size(), r->second.size()), more = std::max(l.size(), r->second.size());
+      if (more <= rows && 2 * fewer >= rows) columns.push_back(c);
+    }
+    double v_lo = INFINITY, v_hi = -INFINITY;
+    for (int c : columns)
+      for (const auto* side : {&column_left[c], &column_right[c]})
+        for (int i : *side)
+          for (int k = 0; k < 3; ++k) {
+            const double h = dot(soup.corner(s[i].t, k), v);
+            v_lo = std::min(v_lo, h), v_hi = std::max(v_hi, h);
+          }
+    const double row_height = (v_hi - v_lo) / double(rows);
+    if (rows < 2 || columns.size() < 2 || !(row_height > 0) || row_height >= 2 * a) {
+      ++fig.skipped_stacks;
+      continue;
+    }
+    // The diagonal: does a left sliver's tip sit at the bottom of its row?
+    // And the orientation: the sign most slivers have in (u, v), weighted
+    // by their area there (the soup's corner order is the original's).
+    long tip_low = 0;
+    double orientation = 0;
+    for (int c : columns) {
+      for (int i : column_left[c]) {
+        const uint32_t t = s[i].t;
+        const int k = s[i].tip;
+        const double mid = 0.5 * (dot(soup.corner(t, (k + 1) % 3), v) + dot(soup.corner(t, (k + 2) % 3), v));
+        tip_low += dot(soup.corner(t, k), v) < mid ? 1 : -1;
+      }
+      for (const auto* side : {&column_left[c], &column_right[c]})
+        for (int i : *side) {
+          const uint32_t t = s[i].t;
+          Vec2 p[3];
+          for (int k = 0; k < 3; ++k) p[k] = {dot(soup.corner(t, k), u), dot(soup.corner(t, k), v)};
+          orientation += cross(p[1] - p[0], p[2] - p[0]);
+        }
+    }
+    const double sign = orientation >= 0 ? 1 : -1;
+    const bool left_tip_low = tip_low >= 0;
+
+    // The grid: vertex (boundary b, row line r) at (boundary[b], v_lo + r
+    // row_height), mirrored across when the stack's orientation is negative,
+    // so every triangle comes out counter-clockwise.
+    const uint32_t island = layout.island_count++;
+    std::map<std::pair<int, int>, uint32_t> grid;
+    auto vertex = [&](int b, int r) {
+      auto [it, fresh] = grid.try_emplace({b, r}, uint32_t(layout.uv.size()));
+      if (fresh)
+        layout.uv.push_back(uv_per_length * Vec2{boundary[b] - boundary[columns.front()], sign * r * row_height});
+      return it->second;
+    };
+    // The rows of one side's slivers: in order of height, each in the row
+    // whose sliver centroid height (a third or two thirds up the row, as
+    // its tip sits low or high) is nearest, by dynamic programming over
+    // (sliver, row) -- O(slivers x rows) per column side.
+    std::vector<double> cost;
+    std::vector<int> from;
+    auto rows_of = [&](std::vector<int>& idx, bool tip_low) {
+      std::stable_sort(idx.begin(), idx.end(), [&](int x, int y) { return s[x].height < s[y].height; });
+      const int m = int(idx.size()), R = int(rows);
+      const double f = tip_low ? 1.0 / 3 : 2.0 / 3;
+      // cost[i * R + r]: least total distance with sliver i in row r.
+      cost.assign(size_t(m) * R, INFINITY);
+      from.assign(size_t(m) * R, -1);
+      for (int i = 0; i < m; ++i) {
+        double best = INFINITY;
+        int best_r = -1;
+        for (int r = i; r <= R - m + i; ++r) {
+          if (i > 0 && cost[size_t(i - 1) * R + r - 1] < best) best = cost[size_t(i - 1) * R + r - 1], best_r = r - 1;
+          const double d = std::fabs(s[idx[i]].height - (v_lo + (r + f) * row_height));
+          cost[size_t(i) * R + r] = (i == 0 ? 0 : best) + d;
+          from[size_t(i) * R + r] = best_r;
+        }
+      }
+      std::vector<int> row(m);
+      int r = int(std::min_element(cost.begin() + size_t(m - 1) * R, cost.begin() + size_t(m) * R) -
+                  (cost.begin() + size_t(m - 1) * R));
+      for (int i = m - 1; i >= 0; --i) row[i] = r, r = from[size_t(i) * R + r];
+      return row;
+    };
+    for (int c : columns)
+      for (bool left : {true, false}) {
+        auto& idx = (left ? column_left : column_right)[c];
+        // Short edge on its side spanning the row; the tip on the other
+        // side at the bottom or the top, the two halves tiling the quad.
+        const int side = left ? c : c + 1, other = left ? c + 1 : c;
+        const bool tip_low = left ? left_tip_low : !left_tip_low;
+        const std::vector<int> row_of = rows_of(idx, tip_low);
+        for (size_t j = 0; j < idx.size(); ++j) {
+          const Sliver& x = s[idx[j]];
+          const int row = row_of[j];
+          const uint32_t bottom = vertex(side, row), top = vertex(side, row + 1);
+          const uint32_t apex = vertex(other, tip_low ? row : row + 1);
+          auto& cv = layout.corner_vertex[x.t];
+          const int k1 = (x.tip + 1) % 3, k2 = (x.tip + 2) % 3;
+          cv[x.tip] = apex;
+          cv[k1] = bottom, cv[k2] = top;
+          if (signed_area2(layout, x.t) < 0) std::swap(cv[k1], cv[k2]);
+          layout.island[x.t] = island;
+          if (!layout.unfolded.empty()) layout.unfolded[x.t] = 0;
+          ++fig.triangles;
+        }
+      }
+    ++fig.stacks;
+    fig.columns += columns.size();
+  }
+  if (fig.stacks) compact_island_ids(layout);
+  return fig;
+}
+
+}  // namespace soupuv::uvsolve::detail
