@@ -4,6 +4,8 @@
 #include <cmath>
 #include <map>
 
+#include <Eigen/Dense>
+
 #include "soupuv/union_find.h"
 
 namespace soupuv::uvsolve::detail {
@@ -30,6 +32,11 @@ constexpr double kEndGapNoise = 3;
 // A stack is flat across when its corners' RMS distance from its plane is
 // at most this many amplitudes (uniform noise alone: 1 / sqrt 3).
 constexpr double kFlatNoise = 1;
+// A side of a group that is not flat: sliver centroids within this many
+// amplitudes of one line across the slivers (a centroid is off its side by
+// a third of the noise of three corners); at most kMaxSides sides.
+constexpr double kSideNoise = 1;
+constexpr size_t kMaxSides = 8;
 
 struct Sliver {
   uint32_t t;
@@ -43,6 +50,80 @@ struct Sliver {
 Vec3 any_perpendicular(Vec3 u) {
   const Vec3 a = std::fabs(u.x) < 0.6 ? Vec3{1, 0, 0} : Vec3{0, 1, 0};
   return normalized(cross(u, a));
+}
+
+// The direction along a group of slivers: of the principal axes of its
+// corners, the one nearest the slivers' mean long edge. The long edges
+// themselves lean: a quad's longest edge is its diagonal, which leans by
+// row height / column width (1.7 degrees on the table's top), enough to
+// shift a 2-unit band's far end across its whole height.
+Vec3 stack_axis(const Soup& soup, const std::vector<uint32_t>& tris, const std::vector<Vec3>& along) {
+  Vec3 mean_along{0, 0, 0};
+  for (uint32_t t : tris) mean_along += dot(along[t], along[tris[0]]) >= 0 ? along[t] : -along[t];
+  Vec3 m{0, 0, 0};
+  for (uint32_t t : tris)
+    for (int k = 0; k < 3; ++k) m += soup.corner(t, k);
+  m = m / (3.0 * double(tris.size()));
+  Eigen::Matrix3d cov = Eigen::Matrix3d::Zero();
+  for (uint32_t t : tris)
+    for (int k = 0; k < 3; ++k) {
+      const Vec3 d = soup.corner(t, k) - m;
+      const Eigen::Vector3d e(d.x, d.y, d.z);
+      cov += e * e.transpose();
+    }
+  Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig(cov);
+  Vec3 best = normalized(mean_along);
+  double best_cos = -1;
+  for (int i = 0; i < 3; ++i) {
+    const Vec3 axis{eig.eigenvectors()(0, i), eig.eigenvectors()(1, i), eig.eigenvectors()(2, i)};
+    const double c = std::fabs(dot(axis, mean_along));
+    if (c > best_cos) best_cos = c, best = dot(axis, mean_along) >= 0 ? axis : -axis;
+  }
+  return normalized(best);
+}
+
+// The flat sides of a group of parallel slivers that is not flat (a thin
+// bar's four sides): in the cross-section across the slivers, the line
+// through the most sliver centroids within kSideNoise amplitudes (angles
+// by one degree) is a side; its slivers are taken out and the next line
+// sought while one holds at least four. Largest side first.
+std::vector<std::vector<uint32_t>> flat_sides(const Soup& soup, const std::vector<uint32_t>& tris,
+                                              const std::vector<Vec3>& along, double a) {
+  const Vec3 u = stack_axis(soup, tris, along);
+  const Vec3 e1 = any_perpendicular(u), e2 = cross(u, e1);
+  std::vector<Vec2> c(tris.size());
+  for (size_t i = 0; i < tris.size(); ++i) {
+    const Vec3 m = (soup.corner(tris[i], 0) + soup.corner(tris[i], 1) + soup.corner(tris[i], 2)) / 3;
+    c[i] = {dot(m, e1), dot(m, e2)};
+  }
+  std::vector<uint32_t> left(tris.size());
+  for (size_t i = 0; i < left.size(); ++i) left[i] = uint32_t(i);
+  std::vector<std::vector<uint32_t>> sides;
+  std::vector<double> proj;
+  const double half = kSideNoise * a;
+  while (sides.size() < kMaxSides && left.size() >= 4) {
+    size_t best = 0;
+    Vec2 best_normal{1, 0};
+    double best_offset = 0;
+    for (int degree = 0; degree < 180; ++degree) {
+      const Vec2 nrm{std::cos(degree * M_PI / 180), std::sin(degree * M_PI / 180)};
+      proj.clear();
+      for (uint32_t i : left) proj.push_back(dot(c[i], nrm));
+      std::sort(proj.begin(), proj.end());
+      for (size_t lo = 0, hi = 0; hi < proj.size(); ++hi) {
+        while (proj[hi] - proj[lo] > 2 * half) ++lo;
+        if (hi - lo + 1 > best) best = hi - lo + 1, best_normal = nrm, best_offset = 0.5 * (proj[lo] + proj[hi]);
+      }
+    }
+    if (best < 4) break;
+    std::vector<uint32_t> side, rest;
+    for (uint32_t i : left) (std::fabs(dot(c[i], best_normal) - best_offset) <= half ? side : rest).push_back(i);
+    std::vector<uint32_t> side_tris;
+    for (uint32_t i : side) side_tris.push_back(tris[i]);
+    sides.push_back(std::move(side_tris));
+    left = std::move(rest);
+  }
+  return sides;
 }
 
 double estimate_noise(const Soup& soup, const std::vector<geometry::AdjacentPair>& pairs) {
@@ -94,13 +175,12 @@ SliverStackFigures lay_sliver_stacks(const Soup& soup, const std::vector<geometr
   for (size_t t = 0; t < n; ++t)
     if (thin[t]) members[groups.find(uint32_t(t))].push_back(uint32_t(t));
 
-  for (auto& [root, tris] : members) {
-    if (tris.size() < 4) continue;
+  enum class Outcome { laid, skipped, skipped_kept, not_flat };
+  // One group laid out as a stack, if it is one.
+  auto lay_stack = [&](const std::vector<uint32_t>& tris) -> Outcome {
     // The stack's frame: u along the slivers, v across them in the plane
     // of their corners (the larger spread perpendicular to u), w normal.
-    Vec3 u{0, 0, 0};
-    for (uint32_t t : tris) u += dot(along[t], along[tris[0]]) >= 0 ? along[t] : -along[t];
-    u = normalized(u);
+    const Vec3 u = stack_axis(soup, tris, along);
     const Vec3 e1 = any_perpendicular(u), e2 = cross(u, e1);
     double m1 = 0, m2 = 0;
     for (uint32_t t : tris)
@@ -117,10 +197,7 @@ SliverStackFigures lay_sliver_stacks(const Soup& soup, const std::vector<geometr
     const double tr = c11 + c22, det = c11 * c22 - c12 * c12;
     const double small = 0.5 * (tr - std::sqrt(std::max(0.0, tr * tr - 4 * det)));
     const double big = tr - small;
-    if (std::sqrt(small / count) > kFlatNoise * a) {
-      ++fig.skipped_stacks;
-      continue;
-    }
+    if (std::sqrt(small / count) > kFlatNoise * a) return Outcome::not_flat;
     // The eigenvector of the larger eigenvalue.
     Vec3 v = std::fabs(c12) > 1e-300 ? normalized((big - c22) * e1 + c12 * e2) : (c11 >= c22 ? e1 : e2);
 
@@ -168,23 +245,16 @@ SliverStackFigures lay_sliver_stacks(const Soup& soup, const std::vector<geometr
       s[i].column = b0;
       (s[i].short_left ? column_left : column_right)[b0].push_back(i);
     }
-    // Rows: the count most columns have on their fuller side. A column with
-    // more slivers, or fewer than half as many on a side, is left to its
-    // islands; one with a few missing (joined to the stack by no weld pair
-    // or not thin enough under the noise) has its slivers placed in order in
-    // the rows nearest their heights.
-    std::map<size_t, int> votes;
+    // Rows: the most slivers a column has on one side. A column with fewer
+    // than half as many on a side is left to its islands; one with a few
+    // missing (joined to the stack by no weld pair, not thin enough under
+    // the noise, or a neighbouring side's sliver taken in at a corner) has
+    // its slivers placed in order in the rows nearest their heights.
+    size_t rows = 0;
     for (const auto& [c, l] : column_left) {
       auto r = column_right.find(c);
-      if (r != column_right.end()) ++votes[std::max(l.size(), r->second.size())];
+      if (r != column_right.end()) rows = std::max({rows, l.size(), r->second.size()});
     }
-    if (votes.empty()) {
-      ++fig.skipped_stacks;
-      continue;
-    }
-    const size_t rows = std::max_element(votes.begin(), votes.end(), [](auto& x, auto& y) {
-                          return x.second < y.second || (x.second == y.second && x.first < y.first);
-                        })->first;
     std::vector<int> columns;
     for (const auto& [c, l] : column_left) {
       auto r = column_right.find(c);
@@ -202,8 +272,31 @@ SliverStackFigures lay_sliver_stacks(const Soup& soup, const std::vector<geometr
           }
     const double row_height = (v_hi - v_lo) / double(rows);
     if (rows < 2 || columns.size() < 2 || !(row_height > 0) || row_height >= 2 * a) {
-      ++fig.skipped_stacks;
-      continue;
+      return Outcome::skipped;
+    }
+    // Laid out only where the grid keeps more of the weld's pairs than the
+    // islands the stack is in now: the grid keeps the pairs inside the
+    // stack and cuts those to the rest of the part (its island is packed
+    // apart). Where the weld held (the enclosure's lid: rows 1.9 noise
+    // amplitudes tall, 91-98 % of the pairs inside kept) the islands keep
+    // more.
+    {
+      std::vector<uint8_t> in(soup.triangles.size(), 0);
+      for (int c : columns)
+        for (const auto* side : {&column_left[c], &column_right[c]})
+          for (int i : *side) in[s[i].t] = 1;
+      size_t cut_inside = 0, kept_across = 0;
+      for (const auto& p : pairs) {
+        if (!in[p.a] && !in[p.b]) continue;
+        const bool kept = layout.corner_vertex[p.a][p.a_corner[0]] == layout.corner_vertex[p.b][p.b_corner[0]] &&
+                          layout.corner_vertex[p.a][p.a_corner[1]] == layout.corner_vertex[p.b][p.b_corner[1]];
+        if (in[p.a] && in[p.b]) cut_inside += !kept;
+        else kept_across += kept;
+      }
+      if (cut_inside <= kept_across) {
+        ++fig.kept_by_islands;
+        return Outcome::skipped_kept;
+      }
     }
     // The diagonal: does a left sliver's tip sit at the bottom of its row?
     // And the orientation: the sign most slivers have in (u, v), weighted
@@ -293,6 +386,19 @@ SliverStackFigures lay_sliver_stacks(const Soup& soup, const std::vector<geometr
       }
     ++fig.stacks;
     fig.columns += columns.size();
+    return Outcome::laid;
+    };
+  for (auto& [root, tris] : members) {
+    if (tris.size() < 4) continue;
+    Outcome o = lay_stack(tris);
+    if (o == Outcome::not_flat) {
+      // Several flat sides along one direction (a thin bar's four sides):
+      // each side peeled off and laid on its own.
+      for (const auto& side : flat_sides(soup, tris, along, a)) o = lay_stack(side) == Outcome::laid ? Outcome::laid : o;
+      if (o == Outcome::not_flat || o == Outcome::skipped) ++fig.skipped_stacks;
+    } else if (o == Outcome::skipped) {
+      ++fig.skipped_stacks;
+    }
   }
   if (fig.stacks) compact_island_ids(layout);
   return fig;

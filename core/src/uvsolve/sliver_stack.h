@@ -23,6 +23,12 @@
 //         noise amplitude: the soup does
 //         not resolve their order (the yardstick counts edges shorter than
 //         that as unresolved, but the rows' long edges are resolved).
+//         A group of parallel slivers that is not flat (a thin bar's four
+//         sides) is split into its flat sides first, each the line across
+//         the slivers through the most of their centroids. A stack is laid
+//         out only where the grid keeps more of the weld's pairs than the
+//         islands it is in: more pairs inside it cut now than pairs to the
+//         rest of the part kept now (the grid's island is packed apart).
 //         The noise amplitude is estimated from the weld: the RMS distance
 //         between welded corner copies over sqrt 2 (uniform noise of
 //         amplitude a per coordinate gives sqrt(2) a).
@@ -53,6 +59,7 @@ struct SliverStackFigures {
   size_t columns = 0;         // their columns
   size_t triangles = 0;       // their triangles
   size_t skipped_stacks = 0;  // candidate groups refused (rows resolved, not flat, not a grid)
+  size_t kept_by_islands = 0; // stacks left where their islands keep more of the weld's pairs
 };
 
 SliverStackFigures lay_sliver_stacks(const Soup& soup, const std::vector<geometry::AdjacentPair>& pairs,

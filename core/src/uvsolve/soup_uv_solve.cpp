@@ -227,6 +227,7 @@ SoupUvResult solve_soup_uvs(const Soup& soup, const geometry::Weld& weld,
                           {"columns", sf.columns},
                           {"triangles", sf.triangles},
                           {"skipped_stacks", sf.skipped_stacks},
+                          {"kept_by_islands", sf.kept_by_islands},
                           {"islands", layout.island_count},
                           {"kept_pairs", detail::kept_pair_share(pairs, layout)},
                           {"seconds", since(t_stack)}};

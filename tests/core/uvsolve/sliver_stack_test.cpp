@@ -61,6 +61,53 @@ Band band(int columns, int rows, double row, double noise, unsigned seed) {
   return b;
 }
 
+// A thin bar along x: its cross-section a square of `rows` rows of height
+// `row` a side, each side a band of slivers as above, the four sides welded
+// at the bar's edges.
+Band bar(int columns, int rows, double row, double noise, unsigned seed) {
+  Band b;
+  b.row = row;
+  Soup exact;
+  const double side = rows * row;
+  auto loop = [&](int j) {  // point j of the cross-section's 4 rows points
+    j %= 4 * rows;
+    const int s = j / rows;
+    const double f = (j % rows) * row;
+    switch (s) {
+      case 0: return Vec2{0, f};
+      case 1: return Vec2{f, side};
+      case 2: return Vec2{side, side - f};
+      default: return Vec2{side - f, 0};
+    }
+  };
+  auto p = [&](int i, int j) { const Vec2 q = loop(j); return Vec3{0.05 * i, q.x, q.y}; };
+  auto add = [&](Vec3 x, Vec3 y, Vec3 z) {
+    for (const Vec3& q : {x, y, z}) exact.positions.push_back(q);
+    const uint32_t base = uint32_t(exact.positions.size() - 3);
+    exact.triangles.push_back(Tri{base, base + 1, base + 2});
+    exact.origins.push_back({});
+  };
+  for (int i = 0; i < columns; ++i)
+    for (int j = 0; j < 4 * rows; ++j) {
+      add(p(i, j), p(i, j + 1), p(i + 1, j));
+      add(p(i + 1, j), p(i, j + 1), p(i + 1, j + 1));
+    }
+  b.pairs = geometry::edge_adjacency(geometry::weld_corners(exact, 1e-9), exact.triangles.size());
+  b.soup = exact;
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<double> u(-noise, noise);
+  for (Vec3& q : b.soup.positions) q += Vec3{u(rng), u(rng), u(rng)};
+  for (size_t t = 0; t < exact.triangles.size(); ++t) {
+    // Each triangle its own counter-clockwise island until laid.
+    for (const Vec2& q : {Vec2{0, 0}, Vec2{1, 0}, Vec2{0, 1}}) b.layout.uv.push_back(Vec2{3.0 * double(t), 0} + q);
+    const uint32_t base = uint32_t(3 * t);
+    b.layout.corner_vertex.push_back({base, base + 1, base + 2});
+    b.layout.island.push_back(uint32_t(t));
+  }
+  b.layout.island_count = uint32_t(exact.triangles.size());
+  return b;
+}
+
 bool inside(const UvLayout& L, size_t t, Vec2 q) {
   const auto& v = L.corner_vertex[t];
   for (int k = 0; k < 3; ++k)
@@ -131,6 +178,42 @@ TEST(SliverStack, AnExactBandKeepsItsIslands) {
   EXPECT_EQ(f.noise, 0);
   EXPECT_EQ(f.stacks, 0u);
   EXPECT_EQ(b.layout.island, before.island);
+}
+
+TEST(SliverStack, EachFlatSideOfAThinBarIsLaidAsItsOwnStack) {
+  const double noise = 0.0025;
+  Band b = bar(12, 12, 0.8 * noise, noise, 11);
+  const auto f = uvsolve::detail::lay_sliver_stacks(b.soup, b.pairs, 1.0, b.layout);
+  EXPECT_EQ(f.stacks, 4u);
+  EXPECT_GE(f.triangles, size_t(0.8 * b.soup.triangles.size()));
+  std::vector<std::vector<size_t>> by_island(b.layout.island_count);
+  for (size_t t = 0; t < b.soup.triangles.size(); ++t) {
+    EXPECT_GT(uvsolve::detail::signed_area2(b.layout, t), 0) << "triangle " << t;
+    by_island[b.layout.island[t]].push_back(t);
+  }
+  for (const auto& island : by_island)
+    for (size_t i : island)
+      for (size_t j : island)
+        if (i != j) EXPECT_FALSE(inside(b.layout, j, centroid(b.layout, i))) << i << " laps " << j;
+}
+
+TEST(SliverStack, AStackItsIslandsAlreadyHoldInOnePieceStays) {
+  // The band as one island on the weld's own vertices: every pair inside
+  // it kept, none for the grid to gain.
+  const double noise = 0.0025;
+  Band b = band(12, 30, 0.8 * noise, noise, 7);
+  const geometry::Weld w = geometry::weld_corners(band(12, 30, 0.8 * noise, 0, 7).soup, 1e-9);
+  b.layout.uv.assign(w.vertex_count, Vec2{0, 0});
+  for (size_t t = 0; t < b.soup.triangles.size(); ++t) {
+    for (int k = 0; k < 3; ++k) b.layout.corner_vertex[t][k] = w.corner_vertex[3 * t + k];
+    b.layout.island[t] = 0;
+  }
+  b.layout.island_count = 1;
+  const UvLayout before = b.layout;
+  const auto f = uvsolve::detail::lay_sliver_stacks(b.soup, b.pairs, 1.0, b.layout);
+  EXPECT_EQ(f.stacks, 0u);
+  EXPECT_EQ(f.kept_by_islands, 1u);
+  EXPECT_EQ(b.layout.corner_vertex, before.corner_vertex);
 }
 
 }  // namespace
