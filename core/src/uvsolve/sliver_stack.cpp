@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <map>
+#include <unordered_map>
 
 #include <Eigen/Dense>
 
@@ -26,6 +27,9 @@ constexpr double kLongNoise = 8;
 // noise turns it by at most ~14 degrees at the extreme; a stack's columns
 // share their direction).
 constexpr double kParallelCos = 0.95;
+// Parallel slivers whose centroids lie within this many amplitudes are in
+// one stack too (the next row of a column is under one amplitude away).
+constexpr double kNearNoise = 3;
 // Column ends closer than this many amplitudes along the stack are one
 // column boundary.
 constexpr double kEndGapNoise = 3;
@@ -131,8 +135,8 @@ std::vector<std::vector<uint32_t>> flat_sides(const Soup& soup, const std::vecto
   const double half = kSideNoise * a;
   while (sides.size() < kMaxSides && left.size() >= 4) {
     size_t best = 0;
-    Vec2 best_normal{1, 0};
-    double best_offset = 0;
+    Vec2 normal{1, 0};
+    double offset = 0;
     for (int degree = 0; degree < 180; ++degree) {
       const Vec2 nrm{std::cos(degree * M_PI / 180), std::sin(degree * M_PI / 180)};
       proj.clear();
@@ -140,14 +144,37 @@ std::vector<std::vector<uint32_t>> flat_sides(const Soup& soup, const std::vecto
       std::sort(proj.begin(), proj.end());
       for (size_t lo = 0, hi = 0; hi < proj.size(); ++hi) {
         while (proj[hi] - proj[lo] > 2 * half) ++lo;
-        if (hi - lo + 1 > best) best = hi - lo + 1, best_normal = nrm, best_offset = 0.5 * (proj[lo] + proj[hi]);
+        if (hi - lo + 1 > best) best = hi - lo + 1, normal = nrm, offset = 0.5 * (proj[lo] + proj[hi]);
       }
     }
     if (best < 4) break;
-    std::vector<uint32_t> side, rest;
-    for (uint32_t i : left) (std::fabs(dot(c[i], best_normal) - best_offset) <= half ? side : rest).push_back(i);
-    std::vector<uint32_t> side_tris;
-    for (uint32_t i : side) side_tris.push_back(tris[i]);
+    // The line refitted to the centroids it holds (least squares, twice):
+    // the search's one-degree steps tilt it by up to half a degree, which
+    // over a long side leaves its ends' centroids out.
+    for (int refit = 0; refit < 2; ++refit) {
+      Vec2 m{0, 0};
+      size_t k = 0;
+      for (uint32_t i : left)
+        if (std::fabs(dot(c[i], normal) - offset) <= half) m = m + c[i], ++k;
+      if (k < 2) break;
+      m = (1.0 / double(k)) * m;
+      double sxx = 0, sxy = 0, syy = 0;
+      for (uint32_t i : left)
+        if (std::fabs(dot(c[i], normal) - offset) <= half) {
+          const Vec2 d = c[i] - m;
+          sxx += d.x * d.x, sxy += d.x * d.y, syy += d.y * d.y;
+        }
+      const double angle = 0.5 * std::atan2(2 * sxy, sxx - syy);  // the line's direction
+      normal = {-std::sin(angle), std::cos(angle)};
+      offset = dot(m, normal);
+    }
+    std::vector<uint32_t> side_tris, rest;
+    for (uint32_t i : left) {
+      if (std::fabs(dot(c[i], normal) - offset) <= half)
+        side_tris.push_back(tris[i]);
+      else
+        rest.push_back(i);
+    }
     sides.push_back(std::move(side_tris));
     left = std::move(rest);
   }
@@ -185,14 +212,47 @@ Slivers find_slivers(const Soup& soup, double a) {
   return s;
 }
 
-// Slivers welded to each other along parallel long edges, in the order of
-// their smallest triangle.
-std::vector<std::vector<uint32_t>> parallel_groups(const Slivers& s, const std::vector<geometry::AdjacentPair>& pairs) {
+// Parallel slivers welded to each other, or whose centroids lie within
+// kNearNoise amplitudes (the row above or below in a column: the weld
+// leaves some slivers of a scrambled stack with no partner at all), in
+// the order of their smallest triangle.
+std::vector<std::vector<uint32_t>> parallel_groups(const Soup& soup, const Slivers& s,
+                                                   const std::vector<geometry::AdjacentPair>& pairs, double a) {
   const size_t n = s.thin.size();
   UnionFind groups(n);
+  auto parallel = [&](uint32_t x, uint32_t y) { return std::fabs(dot(s.along[x], s.along[y])) >= kParallelCos; };
   for (const auto& p : pairs)
-    if (s.thin[p.a] && s.thin[p.b] && std::fabs(dot(s.along[p.a], s.along[p.b])) >= kParallelCos)
-      groups.unite(p.a, p.b);
+    if (s.thin[p.a] && s.thin[p.b] && parallel(p.a, p.b)) groups.unite(p.a, p.b);
+  const double reach = kNearNoise * a;
+  std::unordered_map<uint64_t, std::vector<uint32_t>> cells;
+  std::vector<Vec3> centroid(n);
+  auto cell_key = [&](int64_t x, int64_t y, int64_t z) {
+    return (uint64_t(x) * 0x9E3779B97F4A7C15ull) ^ (uint64_t(y) * 0xC2B2AE3D27D4EB4Full) ^
+           (uint64_t(z) * 0x165667B19E3779F9ull);
+  };
+  auto cell_of = [&](Vec3 c, int64_t& x, int64_t& y, int64_t& z) {
+    x = int64_t(std::floor(c.x / reach)), y = int64_t(std::floor(c.y / reach)), z = int64_t(std::floor(c.z / reach));
+  };
+  for (uint32_t t = 0; t < n; ++t) {
+    if (!s.thin[t]) continue;
+    centroid[t] = (soup.corner(t, 0) + soup.corner(t, 1) + soup.corner(t, 2)) / 3;
+    int64_t x, y, z;
+    cell_of(centroid[t], x, y, z);
+    cells[cell_key(x, y, z)].push_back(t);
+  }
+  for (uint32_t t = 0; t < n; ++t) {
+    if (!s.thin[t]) continue;
+    int64_t x, y, z;
+    cell_of(centroid[t], x, y, z);
+    for (int64_t dx = -1; dx <= 1; ++dx)
+      for (int64_t dy = -1; dy <= 1; ++dy)
+        for (int64_t dz = -1; dz <= 1; ++dz) {
+          auto it = cells.find(cell_key(x + dx, y + dy, z + dz));
+          if (it == cells.end()) continue;
+          for (uint32_t o : it->second)
+            if (o > t && norm2(centroid[o] - centroid[t]) <= reach * reach && parallel(o, t)) groups.unite(o, t);
+        }
+  }
   std::map<uint32_t, std::vector<uint32_t>> members;
   for (size_t t = 0; t < n; ++t)
     if (s.thin[t]) members[groups.find(uint32_t(t))].push_back(uint32_t(t));
@@ -440,7 +500,7 @@ SliverStackFigures lay_sliver_stacks(const Soup& soup, const std::vector<geometr
     fig.columns += st.columns.size();
     return Outcome::laid;
   };
-  for (const auto& tris : parallel_groups(slivers, pairs)) {
+  for (const auto& tris : parallel_groups(soup, slivers, pairs, a)) {
     if (tris.size() < 4) continue;
     Outcome o = lay(tris);
     if (o == Outcome::not_flat) {

@@ -16,13 +16,13 @@
 //         a stack keep their island.
 //         A stack: slivers (altitude below kThinNoise noise amplitudes and
 //         below kMaxAspect of their longest edge, which is at least
-//         kLongNoise amplitudes long) joined by weld pairs with parallel
-//         long edges, flat across (within the noise), whose columns hold
-//         as many left as right slivers (a few may be missing), the same
-//         count in at least two columns, with rows thinner than twice the
-//         noise amplitude: the soup does
-//         not resolve their order (the yardstick counts edges shorter than
-//         that as unresolved, but the rows' long edges are resolved).
+//         kLongNoise amplitudes long) with parallel long edges, joined by
+//         weld pairs or lying within three amplitudes of each other, flat
+//         across (within the noise), whose columns hold as many left as
+//         right slivers (a few may be missing), at least two columns, with
+//         rows thinner than twice the noise amplitude: the soup does not
+//         resolve their order (the yardstick counts edges shorter than that
+//         as unresolved, but the rows' long edges are resolved).
 //         A group of parallel slivers that is not flat (a thin bar's four
 //         sides) is split into its flat sides first, each the line across
 //         the slivers through the most of their centroids. A stack is laid

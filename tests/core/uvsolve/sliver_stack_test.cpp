@@ -140,7 +140,9 @@ TEST(SliverStack, ABandThinnerThanTheNoiseBecomesOneGridWithoutFlipsOrLaps) {
   EXPECT_EQ(in_stack.size(), f.triangles);
   for (size_t i : in_stack)
     for (size_t j : in_stack)
-      if (i != j) EXPECT_FALSE(inside(b.layout, j, centroid(b.layout, i))) << i << " laps " << j;
+      if (i != j) {
+        EXPECT_FALSE(inside(b.layout, j, centroid(b.layout, i))) << i << " laps " << j;
+      }
   // Each true edge's two copies of an endpoint stay within two rows of
   // the grid (rank errors of the noisy heights), most within one.
   double v_lo = INFINITY, v_hi = -INFINITY;
@@ -194,7 +196,9 @@ TEST(SliverStack, EachFlatSideOfAThinBarIsLaidAsItsOwnStack) {
   for (const auto& island : by_island)
     for (size_t i : island)
       for (size_t j : island)
-        if (i != j) EXPECT_FALSE(inside(b.layout, j, centroid(b.layout, i))) << i << " laps " << j;
+        if (i != j) {
+        EXPECT_FALSE(inside(b.layout, j, centroid(b.layout, i))) << i << " laps " << j;
+      }
 }
 
 TEST(SliverStack, AStackItsIslandsAlreadyHoldInOnePieceStays) {
