@@ -23,15 +23,15 @@ struct Band {
   double row = 0;  // true row height
 };
 
-// columns x rows quads of width 0.05 and height `row` in the x-z plane,
-// each split into two slivers, every corner moved by uniform noise of
+// A sheet of columns x strips quads, corner (i, j) at point(i, j), each
+// quad split into two slivers; every corner then moved by uniform noise of
 // amplitude `noise` per coordinate. The weld's pairs are the true ones;
-// every triangle starts as its own island.
-Band band(int columns, int rows, double row, double noise, unsigned seed) {
+// every triangle starts as its own counter-clockwise island.
+template <class Point>
+Band sheet(int columns, int strips, double row, double noise, unsigned seed, Point point) {
   Band b;
   b.row = row;
   Soup exact;
-  auto p = [&](int i, int k) { return Vec3{0.05 * i, 0, row * k}; };
   auto add = [&](Vec3 x, Vec3 y, Vec3 z) {
     for (const Vec3& q : {x, y, z}) exact.positions.push_back(q);
     const uint32_t base = uint32_t(exact.positions.size() - 3);
@@ -39,9 +39,9 @@ Band band(int columns, int rows, double row, double noise, unsigned seed) {
     exact.origins.push_back({});
   };
   for (int i = 0; i < columns; ++i)
-    for (int k = 0; k < rows; ++k) {
-      add(p(i, k), p(i, k + 1), p(i + 1, k));
-      add(p(i + 1, k), p(i, k + 1), p(i + 1, k + 1));
+    for (int j = 0; j < strips; ++j) {
+      add(point(i, j), point(i, j + 1), point(i + 1, j));
+      add(point(i + 1, j), point(i, j + 1), point(i + 1, j + 1));
     }
   b.pairs = geometry::edge_adjacency(geometry::weld_corners(exact, 1e-9), exact.triangles.size());
   b.soup = exact;
@@ -49,10 +49,7 @@ Band band(int columns, int rows, double row, double noise, unsigned seed) {
   std::uniform_real_distribution<double> u(-noise, noise);
   for (Vec3& q : b.soup.positions) q += Vec3{u(rng), u(rng), u(rng)};
   for (size_t t = 0; t < exact.triangles.size(); ++t) {
-    for (int k = 0; k < 3; ++k) {
-      const Vec3 q = exact.corner(t, k);
-      b.layout.uv.push_back({q.x, q.z});
-    }
+    for (const Vec2& q : {Vec2{0, 0}, Vec2{1, 0}, Vec2{0, 1}}) b.layout.uv.push_back(Vec2{3.0 * double(t), 0} + q);
     const uint32_t base = uint32_t(3 * t);
     b.layout.corner_vertex.push_back({base, base + 1, base + 2});
     b.layout.island.push_back(uint32_t(t));
@@ -61,51 +58,31 @@ Band band(int columns, int rows, double row, double noise, unsigned seed) {
   return b;
 }
 
+// A flat band: columns x rows quads of width 0.05 and height `row` in the
+// x-z plane.
+Band band(int columns, int rows, double row, double noise, unsigned seed) {
+  return sheet(columns, rows, row, noise, seed, [&](int i, int k) { return Vec3{0.05 * i, 0, row * k}; });
+}
+
 // A thin bar along x: its cross-section a square of `rows` rows of height
-// `row` a side, each side a band of slivers as above, the four sides welded
-// at the bar's edges.
+// `row` a side, each side a band as above, the four sides welded at the
+// bar's edges.
 Band bar(int columns, int rows, double row, double noise, unsigned seed) {
-  Band b;
-  b.row = row;
-  Soup exact;
   const double side = rows * row;
   auto loop = [&](int j) {  // point j of the cross-section's 4 rows points
     j %= 4 * rows;
-    const int s = j / rows;
     const double f = (j % rows) * row;
-    switch (s) {
+    switch (j / rows) {
       case 0: return Vec2{0, f};
       case 1: return Vec2{f, side};
       case 2: return Vec2{side, side - f};
       default: return Vec2{side - f, 0};
     }
   };
-  auto p = [&](int i, int j) { const Vec2 q = loop(j); return Vec3{0.05 * i, q.x, q.y}; };
-  auto add = [&](Vec3 x, Vec3 y, Vec3 z) {
-    for (const Vec3& q : {x, y, z}) exact.positions.push_back(q);
-    const uint32_t base = uint32_t(exact.positions.size() - 3);
-    exact.triangles.push_back(Tri{base, base + 1, base + 2});
-    exact.origins.push_back({});
-  };
-  for (int i = 0; i < columns; ++i)
-    for (int j = 0; j < 4 * rows; ++j) {
-      add(p(i, j), p(i, j + 1), p(i + 1, j));
-      add(p(i + 1, j), p(i, j + 1), p(i + 1, j + 1));
-    }
-  b.pairs = geometry::edge_adjacency(geometry::weld_corners(exact, 1e-9), exact.triangles.size());
-  b.soup = exact;
-  std::mt19937 rng(seed);
-  std::uniform_real_distribution<double> u(-noise, noise);
-  for (Vec3& q : b.soup.positions) q += Vec3{u(rng), u(rng), u(rng)};
-  for (size_t t = 0; t < exact.triangles.size(); ++t) {
-    // Each triangle its own counter-clockwise island until laid.
-    for (const Vec2& q : {Vec2{0, 0}, Vec2{1, 0}, Vec2{0, 1}}) b.layout.uv.push_back(Vec2{3.0 * double(t), 0} + q);
-    const uint32_t base = uint32_t(3 * t);
-    b.layout.corner_vertex.push_back({base, base + 1, base + 2});
-    b.layout.island.push_back(uint32_t(t));
-  }
-  b.layout.island_count = uint32_t(exact.triangles.size());
-  return b;
+  return sheet(columns, 4 * rows, row, noise, seed, [&](int i, int j) {
+    const Vec2 q = loop(j);
+    return Vec3{0.05 * i, q.x, q.y};
+  });
 }
 
 bool inside(const UvLayout& L, size_t t, Vec2 q) {
