@@ -41,6 +41,7 @@ constexpr double kFlatNoise = 1;
 // a third of the noise of three corners); at most kMaxSides sides.
 constexpr double kSideNoise = 1;
 constexpr size_t kMaxSides = 8;
+constexpr size_t kLineSearchSample = 4096;
 
 // The soup's slivers: per triangle whether it is one, its long edge's
 // direction and the corner opposite its shortest edge (its tip).
@@ -137,10 +138,13 @@ std::vector<std::vector<uint32_t>> flat_sides(const Soup& soup, const std::vecto
     size_t best = 0;
     Vec2 normal{1, 0};
     double offset = 0;
+    // The search looks at no more than kLineSearchSample centroids (every
+    // stride-th): 180 sorts of a group of a million would take seconds.
+    const size_t stride = (left.size() + kLineSearchSample - 1) / kLineSearchSample;
     for (int degree = 0; degree < 180; ++degree) {
       const Vec2 nrm{std::cos(degree * M_PI / 180), std::sin(degree * M_PI / 180)};
       proj.clear();
-      for (uint32_t i : left) proj.push_back(dot(c[i], nrm));
+      for (size_t q = 0; q < left.size(); q += stride) proj.push_back(dot(c[left[q]], nrm));
       std::sort(proj.begin(), proj.end());
       for (size_t lo = 0, hi = 0; hi < proj.size(); ++hi) {
         while (proj[hi] - proj[lo] > 2 * half) ++lo;
@@ -175,6 +179,7 @@ std::vector<std::vector<uint32_t>> flat_sides(const Soup& soup, const std::vecto
       else
         rest.push_back(i);
     }
+    if (side_tris.size() < 4) break;
     sides.push_back(std::move(side_tris));
     left = std::move(rest);
   }
@@ -487,6 +492,7 @@ SliverStackFigures lay_sliver_stacks(const Soup& soup, const std::vector<geometr
 
   enum class Outcome { laid, kept, skipped, not_flat };
   auto lay = [&](const std::vector<uint32_t>& tris) {
+    if (tris.size() < 4) return Outcome::skipped;
     const StackFrame f = stack_frame(soup, tris, slivers.along);
     if (f.off_plane > kFlatNoise * a) return Outcome::not_flat;
     Stack st;
