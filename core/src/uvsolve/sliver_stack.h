@@ -41,7 +41,10 @@
 //         (docs/tuning.md, "Sliver stacks"). Ranked by height, a sliver
 //         lands within a row or two of its place, a sub-texel distance, so
 //         its true neighbours stay next to it whatever the weld said.
-// Cost  : O(n log n) in the stacks' triangles, O(pairs) for the noise.
+// Cost  : O(pairs) for the noise and the groups, O(n log n) in the slivers
+//         to sort them into columns and rows; a group that is not flat adds
+//         180 sorts of at most 4,096 centroids per side searched (table:
+//         0.1-0.2 s in all, other corpus soups at most 0.03 s).
 #pragma once
 
 #include <cstddef>
