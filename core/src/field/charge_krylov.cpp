@@ -57,7 +57,7 @@ void solve_krylov(const SourceGeometry& src, const ChargeOptions& o, Progress& p
   r.setup_seconds = elapsed();
   r.near_entries = A.near_entries();
   r.solver = "krylov";
-  const int max_it = o.max_iterations > 0 ? o.max_iterations : 300;
+  const int max_it = o.max_iterations > 0 ? o.max_iterations : kKrylovIterationBudget;
   // max |1 - A q| bounds the deviation of A q from its mean by twice that.
   const double target = o.tolerance / 5;
   // Initial guess: charge proportional to area (exact for a sphere), scaled

@@ -30,7 +30,11 @@ std::string key_part(cache::ByteWriter&& w) {
 std::string charge_params(const field::ChargeOptions& o) {
   cache::ByteWriter w;
   w.put(int(o.solver)), w.put(o.tolerance), w.put(o.quadrature_degree), w.put(o.fmm_order), w.put(o.fmm_theta);
-  w.put(o.refine_area_ratio), w.put(o.max_iterations), w.put(o.max_seconds), w.put(o.direct_initialization);
+  w.put(o.refine_area_ratio);
+  // The effective Krylov budget, so a change of its default is a new key.
+  w.put(o.solver == field::ChargeOptions::Solver::krylov && o.max_iterations == 0 ? field::kKrylovIterationBudget
+                                                                                 : o.max_iterations);
+  w.put(o.max_seconds), w.put(o.direct_initialization);
   return key_part(std::move(w));
 }
 

@@ -47,7 +47,8 @@ struct ChargeOptions {
   // Triangles with area > refine_area_ratio * median area are split (midpoint
   // subdivision) until they are not; 0 disables refinement.
   double refine_area_ratio = 16.0;
-  // Krylov: total GMRES iterations; robin hood: charge transfers (0: 200 * n).
+  // Krylov: total mat-vecs (0: kKrylovIterationBudget); robin hood: charge
+  // transfers (0: 200 * n).
   int max_iterations = 0;
   double max_seconds = 0;           // stop early after this long (0: no limit)
   // robin hood only: initial potentials by O(n^2) direct summation instead of the FMM.
@@ -87,6 +88,16 @@ struct ChargeOptions {
   size_t verify_direct_max = 2000;
   int verify_order = 0;
 };
+
+// The Krylov solve's default effort: it stops after this many mat-vecs
+// (GMRES iterations and outer steps together) even short of `tolerance`,
+// and says so (converged false, the verified error in the diagnostics).
+// Why: every corpus solve that converges does so within 19 (ogre 19, beast
+// 17, the others 3-14); the two that do not converge quickly (bracket 68,
+// bracket-exact 83: coplanar and intersecting slivers) give the same maps
+// stopped at 16 or 31 mat-vecs as at 68 or 83, 1.2-1.4 s sooner
+// (docs/tuning.md, "The charge's effort budget, session 35").
+inline constexpr int kKrylovIterationBudget = 30;
 
 struct ChargeResult {
   // The charged source geometry: the soup's triangles, large ones refined.
