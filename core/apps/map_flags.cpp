@@ -189,6 +189,8 @@ std::vector<MapFlag> make_table() {
          [](MapArgs& m) { opt(m).orient_sides = false; }),
       sw("--no-share-lines", kField, "one field line per corner from its own triangle, as in the paper (by default copies of one welded position share a line)",
          [](MapArgs& m) { opt(m).share_lines = false; }),
+      sw("--no-stop-at-proxy", kField, "trace field lines past their first proxy crossing to the reach box (cached lines then serve any proxy offset)",
+         [](MapArgs& m) { opt(m).stop_lines_at_proxy = false; }),
       sw("--no-chart-fix", kField, "skip the §8 fix of triangles whose corners landed on different charts",
          [](MapArgs& m) { opt(m).transfer.fix_chart_boundaries = false; }),
       sw("--no-chart-neighbours", kField, "the paper's per-triangle §8 rule (by default a triangle across a seam prefers the chart its welded neighbours use)",

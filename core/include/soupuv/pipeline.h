@@ -84,6 +84,13 @@ struct MapOptions {
   // along their mean oriented normal); false: one line per corner from its
   // own triangle, as in the paper.
   bool share_lines = true;
+  // Without a cache, field lines end at their first crossing of the proxy
+  // (§7.6: the hit is all the transfer uses; the trace waits for the proxy,
+  // which the proxy branch builds long before the charge is solved). With a
+  // cache they run on to the reach box, so that the cached lines serve any
+  // proxy offset (the field is cached per mesh). The map is the same either
+  // way. false: always to the reach box.
+  bool stop_lines_at_proxy = true;
   // §8 with neighbours: a triangle across a chart seam prefers the chart its
   // (welded) neighbours use (transfer/chart_fix.h); false: the paper's
   // per-triangle rule.

@@ -329,7 +329,7 @@ struct FieldLineTracer::Impl {
   std::unique_ptr<BatchField> field;
   // Totals over every probe and trace (TraceStats).
   size_t evaluations = 0, steps_total = 0, grown_steps = 0, grown_redone = 0;
-  size_t escaped = 0, step_limit = 0, stalled = 0, trapped = 0;
+  size_t escaped = 0, step_limit = 0, stalled = 0, trapped = 0, reached = 0;
 };
 
 FieldLineTracer::FieldLineTracer(const ChargeResult& charges, const TraceOptions& options)
@@ -360,6 +360,7 @@ TraceStats FieldLineTracer::stats() const {
   st.step_limit = m.step_limit;
   st.stalled = m.stalled;
   st.trapped = m.trapped;
+  st.reached = m.reached;
   return st;
 }
 
@@ -549,9 +550,14 @@ FieldLines FieldLineTracer::Impl::trace(const std::vector<TraceSeed>& seeds, Pro
       if (!(h[a] > 0)) continue;  // stalled or trapped
       last_dir[s] = E[a] / norm(E[a]);
       last_h[s] = h[a];
+      const Vec3 from = pos[s];
       pos[s] = pos[s] + (h[a] / norm(Emove[a])) * Emove[a];
       ++stepped;
       if (options.keep_points) lines[s].push_back(pos[s]);
+      if (options.stop_crossing && options.stop_crossing(from, pos[s])) {
+        ends[s] = LineEnd::reached;
+        continue;
+      }
       if (norm(pos[s] - center) > stop_radius || outside(options.stop_box, pos[s])) {
         ends[s] = LineEnd::escaped;
         continue;
@@ -582,6 +588,7 @@ FieldLines FieldLineTracer::Impl::trace(const std::vector<TraceSeed>& seeds, Pro
     if (e == LineEnd::escaped) ++escaped;
     else if (e == LineEnd::step_limit) ++step_limit;
     else if (e == LineEnd::stalled) ++stalled;
+    else if (e == LineEnd::reached) ++reached;
     else ++trapped;
   }
   progress.update("trace", 1.0);

@@ -1,10 +1,13 @@
 #include "pipeline/field_branch.h"
 
 #include <chrono>
+#include <memory>
 
 #include "pipeline/field_codec.h"
 #include "pipeline/shared_seeds.h"
 #include "soupuv/cache/bytes.h"
+#include "soupuv/geometry/surface_hit_bvh.h"
+#include "soupuv/hash.h"
 #include "soupuv/proxy/offset_policy.h"
 #include "soupuv/geometry/weld.h"
 #include "soupuv/field/intersect.h"
@@ -16,6 +19,14 @@ namespace {
 
 double since(std::chrono::steady_clock::time_point t0) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+}
+
+// A mesh's content, for the lines' key when they stop at it.
+std::string mesh_hash(const TriMesh& mesh) {
+  Hasher h;
+  h.add_array(mesh.vertices);
+  h.add_array(mesh.faces);
+  return h.hex();
 }
 
 // A cache-key part from raw bytes (hashed as they are, never formatted).
@@ -76,6 +87,7 @@ void add_stats(nlohmann::json& j, const field::TraceStats& s) {
   add("step_limit", double(s.step_limit));
   add("stalled", double(s.stalled));
   add("trapped", double(s.trapped));
+  add("reached", double(s.reached));
   add("grown_steps", double(s.grown_steps));
   add("grown_steps_redone", double(s.grown_steps_redone));
 }
@@ -272,13 +284,30 @@ FieldBranchResult run_field_branch(const Soup& soup, const std::string& soup_has
   const std::string charge_key =
       cache::cache_key({"charges", kFieldCacheVersion, soup_hash,
                         options.refine_intersections ? "refine" : "plain", charge_params(charge_options)});
-  const std::string lines_key =
-      cache::cache_key({"lines", kFieldCacheVersion, charge_key, trace_params(options, trace_options)});
+  // The lines' key: the charges, the trace options and, with a stop
+  // surface, that mesh (known only once the caller's proxy exists).
+  const std::string trace_key = trace_params(options, trace_options);
+  const TriMesh* stop_mesh = nullptr;
+  bool stop_asked = false;
+  auto stop_surface = [&]() -> const TriMesh* {
+    if (!stop_asked && options.stop_surface) stop_mesh = options.stop_surface();
+    stop_asked = true;
+    return stop_mesh;
+  };
+  auto lines_key = [&] {
+    return cache::cache_key({"lines", kFieldCacheVersion, charge_key, trace_key,
+                             stop_surface() ? mesh_hash(*stop_mesh) : std::string("reach")});
+  };
 
-  if (cache) {
-    auto hit = cache->get(lines_key);
+  std::shared_ptr<const cache::Bytes> cached_charges;
+  // With a stop surface the lines' key must wait for it: only worth it when
+  // the charges are cached too (otherwise the wait would delay the solve).
+  if (cache && options.stop_surface) cached_charges = cache->get(charge_key);
+  if (cache && (!options.stop_surface || cached_charges)) {
+    const std::string key = lines_key();
+    auto hit = cache->get(key);
     // Shared lines are useless without their corner map (evicted separately).
-    auto corners = hit && options.share_lines ? cache->get(lines_key + ".corners") : nullptr;
+    auto corners = hit && options.share_lines ? cache->get(key + ".corners") : nullptr;
     if (hit && (corners || !options.share_lines)) {
       // The lines carry everything downstream needs; charges are not even read.
       r.lines = decode_lines(*hit);
@@ -287,7 +316,7 @@ FieldBranchResult run_field_branch(const Soup& soup, const std::string& soup_has
         r.line_of_corner = rd.get_vector<uint32_t>();
       }
       r.lines_cached = r.charges_cached = true;
-      if (auto meta = cache->get(lines_key + ".json")) {
+      if (auto meta = cache->get(key + ".json")) {
         auto j = nlohmann::json::parse(meta->begin(), meta->end());
         r.charge = j["charge"];
         r.trace = j["trace"];
@@ -301,7 +330,7 @@ FieldBranchResult run_field_branch(const Soup& soup, const std::string& soup_has
   }
 
   field::ChargeResult charges;
-  std::shared_ptr<const cache::Bytes> cached_charges = cache ? cache->get(charge_key) : nullptr;
+  if (cache && !cached_charges) cached_charges = cache->get(charge_key);
   if (cached_charges) {
     charges = decode_charges(*cached_charges);
     r.charges_cached = true;
@@ -333,6 +362,13 @@ FieldBranchResult run_field_branch(const Soup& soup, const std::string& soup_has
 
   auto t2 = std::chrono::steady_clock::now();
   r.trace = nlohmann::json::object();
+  std::unique_ptr<geometry::SurfaceHitBvh> stop_bvh;
+  if (stop_surface()) {
+    stop_bvh = std::make_unique<geometry::SurfaceHitBvh>(*stop_mesh);
+    const geometry::SurfaceHitBvh* bvh = stop_bvh.get();
+    // The transfer's own test (land_line): the same segments, the same answer.
+    trace_options.stop_crossing = [bvh](Vec3 a, Vec3 b) { return bvh->first_hit(a, b).found(); };
+  }
   if (options.share_lines) {
     trace_shared(soup, charges, trace_options, options, progress, r);
   } else {
@@ -341,14 +377,15 @@ FieldBranchResult run_field_branch(const Soup& soup, const std::string& soup_has
   r.seconds_trace = since(t2);
   r.trace["cached"] = false;
   if (cache) {
-    cache->put(lines_key, encode(r.lines));
+    const std::string key = lines_key();
+    cache->put(key, encode(r.lines));
     nlohmann::json meta = {{"charge", r.charge}, {"trace", r.trace}, {"orient", r.orient},
                            {"intersections", r.intersections}};
     std::string m = meta.dump();
-    cache->put(lines_key + ".json", cache::Bytes(m.begin(), m.end()));
+    cache->put(key + ".json", cache::Bytes(m.begin(), m.end()));
     cache::ByteWriter wc;
     wc.put_vector(r.line_of_corner);
-    cache->put(lines_key + ".corners", wc.take());
+    cache->put(key + ".corners", wc.take());
   }
   return r;
 }

@@ -6,6 +6,7 @@
 //         whatever the refinement added) and the branch's diagnostics.
 #pragma once
 
+#include <functional>
 #include <optional>
 #include <string>
 
@@ -14,6 +15,7 @@
 #include "soupuv/cache/store.h"
 #include "soupuv/field/field.h"
 #include "soupuv/geometry/weld.h"
+#include "soupuv/mesh.h"
 #include "soupuv/progress.h"
 #include "soupuv/proxy/proxy.h"
 #include "soupuv/soup.h"
@@ -67,6 +69,14 @@ struct FieldBranchOptions {
   // continuity 0.98566 -> 0.98563, islands 12 -> 13, fallbacks 24 -> 2), so
   // it is off.
   double start_offset_edges = 0;
+  // Set: called once, after the charges, before the trace (it may wait for
+  // the proxy branch). A mesh it returns ends each line at its first
+  // crossing of it (TraceOptions::stop_crossing): the transfer lands lines
+  // there, so the steps beyond were wasted. The lines' cache key then names
+  // the mesh (a new proxy is a re-trace; the charges stay cached). nullptr,
+  // or unset: lines run to the reach box (proxy_reach) and serve any proxy.
+  // The mesh must live until run_field_branch returns.
+  std::function<const TriMesh*()> stop_surface;
 };
 
 // Margin over the reach: the proxy is lifted to its offset o, but remeshing

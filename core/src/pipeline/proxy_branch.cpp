@@ -29,17 +29,16 @@ void build_branch_atlas(const Soup& soup, ProxyBranch& b, const atlas::AtlasOpti
   b.seconds_atlas = since(t1);
 }
 
-ProxyBranch run_proxy_branch(const Soup& soup, const proxy::ProxyOptions& proxy,
-                             const atlas::AtlasOptions& atlas, double relax_gate, int threads,
-                             Progress& progress) {
-  ProxyBranch b;
+void run_proxy_branch(const Soup& soup, const proxy::ProxyOptions& proxy, const atlas::AtlasOptions& atlas,
+                      double relax_gate, int threads, Progress& progress, ProxyBranch& b,
+                      const std::function<void(const TriMesh&)>& proxy_done) {
   proxy::ProxyOptions po = proxy;
   po.threads = threads;
   auto t0 = Clock::now();
   b.proxy = proxy::build_proxy(soup, po, progress);
   b.seconds_proxy = since(t0);
+  if (proxy_done) proxy_done(b.proxy.proxy.mesh);
   build_branch_atlas(soup, b, atlas, relax_gate, threads, progress);
-  return b;
 }
 
 }  // namespace soupuv::pipeline

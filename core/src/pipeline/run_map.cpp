@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <chrono>
 #include <exception>
+#include <future>
 #include <thread>
 
 #include "pipeline/field_branch.h"
@@ -189,6 +190,13 @@ MapResult run_map(const Soup& soup, const MapOptions& options, Progress& progres
   fo.seed_edge_fraction = options.seed_weld_edge_fraction;
   fo.threads = field_threads;
   fo.proxy_reach = pipeline::proxy_reach(soup, options.proxy);
+  // The proxy mesh, handed from the proxy branch to the field branch's
+  // trace (nullptr if the proxy branch failed: the field branch is then
+  // canceled or its lines unused).
+  std::promise<const TriMesh*> proxy_mesh;
+  std::shared_future<const TriMesh*> proxy_mesh_ready = proxy_mesh.get_future().share();
+  bool proxy_mesh_sent = false;
+  if (options.stop_lines_at_proxy && !options.cache) fo.stop_surface = [proxy_mesh_ready] { return proxy_mesh_ready.get(); };
 
   // The two branches (paper Fig. 3): field on a second thread, proxy + atlas here.
   Progress field_progress = child_of(progress);
@@ -214,8 +222,11 @@ MapResult run_map(const Soup& soup, const MapOptions& options, Progress& progres
   MetricWeld metric;
   double seconds_metric_weld = 0;
   try {
-    pb = pipeline::run_proxy_branch(soup, options.proxy, options.atlas,
-                                    options.relax_max_soup_per_proxy_face, proxy_threads, proxy_progress);
+    pipeline::run_proxy_branch(soup, options.proxy, options.atlas, options.relax_max_soup_per_proxy_face,
+                               proxy_threads, proxy_progress, pb, [&](const TriMesh& mesh) {
+                                 proxy_mesh.set_value(&mesh);
+                                 proxy_mesh_sent = true;
+                               });
     auto t_metric_weld = Clock::now();
     metric = metric_weld_and_pairs(soup, options);
     seconds_metric_weld = since(t_metric_weld);
@@ -223,6 +234,7 @@ MapResult run_map(const Soup& soup, const MapOptions& options, Progress& progres
     proxy_error = std::current_exception();
     field_progress.cancel();
   }
+  if (!proxy_mesh_sent) proxy_mesh.set_value(nullptr);  // never leave the field branch waiting
   field_thread.join();
   progress.check_canceled();  // the caller's cancel wins over a branch's own error
   // Report the root cause, not the sibling's "canceled".

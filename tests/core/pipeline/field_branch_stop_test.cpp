@@ -101,3 +101,46 @@ TEST(FieldBranchStop, OffsetBeyondTheReachRetraces) {
   EXPECT_EQ(beyond.diagnostics["trace"]["fallback"].get<size_t>(), 0u);
   EXPECT_EQ(beyond.diagnostics["trace"]["hit_fraction"].get<double>(), 1.0);
 }
+
+// run_map without a cache: lines end at their first proxy crossing, and
+// the map is the one the reach box gives (the transfer lands on that
+// crossing either way), with fewer evaluations.
+TEST(FieldBranchStop, LinesStoppedAtTheProxyGiveTheSameMap) {
+  const Soup soup = shapes::to_soup(shapes::sphere_with(1.0, 300), 1e-3, 6);
+  MapOptions o = soupuv::testing::fast_options();
+  o.cache = nullptr;  // with a cache the lines run on to the reach box
+  o.stop_lines_at_proxy = false;
+  const MapResult boxed = run_map(soup, o);
+  o.stop_lines_at_proxy = true;
+  const MapResult stopped = run_map(soup, o);
+  ASSERT_EQ(stopped.corner_uvs.size(), boxed.corner_uvs.size());
+  for (size_t c = 0; c < stopped.corner_uvs.size(); ++c)
+    ASSERT_EQ(norm(stopped.corner_uvs[c] - boxed.corner_uvs[c]), 0.0) << "corner " << c;
+  const auto& trace = stopped.diagnostics["trace"];
+  EXPECT_EQ(trace["reached"].get<double>(), trace["lines"].get<double>());
+  EXPECT_EQ(boxed.diagnostics["trace"]["reached"].get<double>(), 0.0);
+  EXPECT_LT(trace["evaluations"].get<double>(), boxed.diagnostics["trace"]["evaluations"].get<double>());
+}
+
+// The field branch with a stop surface and a cache: the lines' key names
+// the surface, so the same surface reuses them and another re-traces them
+// on the cached charges.
+TEST(FieldBranchStop, LinesStoppedAtASurfaceAreCachedPerSurface) {
+  const Soup soup = shapes::to_soup(shapes::sphere_with(1.0, 300), 1e-3, 6);
+  const std::string hash = geometry_hash(soup);
+  const TriMesh near_shell = shapes::icosphere(1.1, 2), far_shell = shapes::icosphere(1.3, 2);
+  cache::Store store;
+  pipeline::FieldBranchOptions o = branch_options();
+  o.proxy_reach = 0.5;
+  o.stop_surface = [&] { return &near_shell; };
+  const auto first = pipeline::run_field_branch(soup, hash, o, &store, Progress::none());
+  EXPECT_FALSE(first.lines_cached);
+  EXPECT_EQ(first.trace["reached"].get<double>(), double(first.lines.size()));
+  const auto again = pipeline::run_field_branch(soup, hash, o, &store, Progress::none());
+  EXPECT_TRUE(again.lines_cached);
+  o.stop_surface = [&] { return &far_shell; };
+  const auto other = pipeline::run_field_branch(soup, hash, o, &store, Progress::none());
+  EXPECT_FALSE(other.lines_cached);
+  EXPECT_TRUE(other.charges_cached);
+  EXPECT_EQ(other.trace["reached"].get<double>(), double(other.lines.size()));
+}

@@ -14,6 +14,7 @@
 #pragma once
 
 #include <cstdint>
+#include <functional>
 #include <memory>
 #include <string>
 #include <vector>
@@ -264,6 +265,13 @@ struct TraceOptions {
   // of a noisy sphere that crawls 8 steps and escapes was lost
   // (docs/tuning.md, session 31).
   int trapped_steps = 16;
+  // Set: a line ends (LineEnd::reached) at the first step whose segment
+  // (start, end) this returns true for. The pipeline passes "crosses the
+  // proxy": the transfer lands a line at its first proxy crossing, so the
+  // steps after it were wasted (a third of them on valve, bracket and the
+  // 65k scan). Called from the tracer's threads; the first segment, from
+  // the seed to its start offset, is not tested.
+  std::function<bool(Vec3, Vec3)> stop_crossing;
 };
 
 struct TraceStats {
@@ -271,7 +279,7 @@ struct TraceStats {
   double build_seconds = 0;   // FMM tree and expansions (once)
   size_t evaluations = 0;     // field evaluations
   size_t steps = 0;
-  size_t escaped = 0, step_limit = 0, stalled = 0, trapped = 0;
+  size_t escaped = 0, step_limit = 0, stalled = 0, trapped = 0, reached = 0;
   // Steps beyond the distance rule (TraceOptions::max_step_growth): checked
   // against the soup, and those redone because their segment met a triangle.
   size_t grown_steps = 0, grown_steps_redone = 0;

@@ -15,6 +15,7 @@ enum class LineEnd : uint8_t {
   step_limit = 1,  // ran out of steps
   stalled = 2,     // |E| vanished (e.g. inside a closed part)
   trapped = 3,     // crawled along the surface (TraceOptions::trapped_steps)
+  reached = 4,     // its last step crossed TraceOptions::stop_crossing (the pipeline: the proxy)
 };
 
 struct FieldLines {
