@@ -97,7 +97,8 @@ struct ChargeOptions {
 // 17, the others 3-14); the two that do not converge quickly (bracket 68,
 // bracket-exact 83: coplanar and intersecting slivers) give the same maps
 // stopped at 16 or 31 mat-vecs as at 68 or 83, 1.2-1.4 s sooner
-// (docs/tuning.md, "The charge's effort budget, session 35").
+// (docs/tuning.md, "The charge's effort budget and lines that stop at the
+// proxy, session 35").
 inline constexpr int kKrylovIterationBudget = 30;
 
 struct ChargeResult {
