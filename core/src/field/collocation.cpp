@@ -8,7 +8,9 @@
 #include <cmath>
 
 #include "soupuv/field/direct.h"
+#include "soupuv/field/quadrature.h"
 #include "soupuv/field/triangle_integrals.h"
+#include "tracer_closed_form_batch.h"
 
 namespace soupuv::field {
 
@@ -38,6 +40,21 @@ void inverse_distances(const double* px, const double* py, const double* pz, siz
     const double dx = x.x - px[t], dy = x.y - py[t], dz = x.z - pz[t];
     inv[t] = 1.0 / std::sqrt(dx * dx + dy * dy + dz * dz);
   }
+}
+
+// sum_k w[k] / |x - p_k| over m points: the middle band's degree-6 rule
+// (sources.h) on one triangle's precomputed points, vectorised like the
+// above (its scalar twin built the points and took one sqrt at a time: as
+// much of the set-up as the closed form).
+__attribute__((target_clones("avx2", "default")))
+double weighted_inverse_sum(const double* px, const double* py, const double* pz, const double* w, int m, Vec3 x) {
+  double s = 0;
+#pragma omp simd reduction(+ : s)
+  for (int k = 0; k < m; ++k) {
+    const double dx = x.x - px[k], dy = x.y - py[k], dz = x.z - pz[k];
+    s += w[k] / std::sqrt(dx * dx + dy * dy + dz * dz);
+  }
+  return s;
 }
 
 // sum_k a[k] * b[k]; the simd reduction lets the compiler keep several
@@ -72,13 +89,32 @@ CollocationOperator::CollocationOperator(const SourceGeometry& sources, const Fm
     near_start_[i + 1] = near_start_[i] + cols.size();
   }
   near_val_.resize(near_start_[n]);
+  // Each source's closed-form frame, for the pairs within the closed-form
+  // radius: those are evaluated four at a time (closed_form_potentials).
+  std::vector<tracer::TriangleFrame> frames(n);
+#pragma omp parallel for num_threads(threads_) schedule(static)
+  for (long j = 0; j < n; ++j) frames[j] = tracer::triangle_frame(src_.a[j], src_.b[j], src_.c[j]);
+  // ... and its middle-band points (the degree-6 rule of sources.cpp's
+  // middle_band, the same barycentric combination), by coordinate.
+  const TriangleRule& band_rule = triangle_rule(6);
+  const int mb = static_cast<int>(band_rule.weights.size());
+  std::vector<double> bx(size_t(n) * mb), by(size_t(n) * mb), bz(size_t(n) * mb);
+#pragma omp parallel for num_threads(threads_) schedule(static)
+  for (long j = 0; j < n; ++j)
+    for (int k = 0; k < mb; ++k) {
+      const auto& l = band_rule.points[k];
+      const Vec3 p = l[0] * src_.a[j] + l[1] * src_.b[j] + l[2] * src_.c[j];
+      bx[size_t(j) * mb + k] = p.x, by[size_t(j) * mb + k] = p.y, bz[size_t(j) * mb + k] = p.z;
+    }
   leaf_rows_.resize(leaf_cols_.size());
   for (long i = 0; i < n; ++i) leaf_rows_[leaf_[i]].push_back(static_cast<uint32_t>(i));
   const auto& rows = leaf_rows_;
   const int m = src_.points_per_triangle;
 #pragma omp parallel num_threads(threads_)
   {
-    std::vector<double> px, py, pz, inv;
+    std::vector<double> px, py, pz, inv, closed_value;
+    std::vector<uint32_t> closed_at;                     // positions k in the row
+    std::vector<const tracer::TriangleFrame*> closed_frames;
 #pragma omp for schedule(dynamic, 4)
     for (long leaf = 0; leaf < static_cast<long>(rows.size()); ++leaf) {
       if (rows[leaf].empty()) continue;
@@ -95,17 +131,33 @@ CollocationOperator::CollocationOperator(const SourceGeometry& sources, const Fm
         const Vec3 x = src_.centroid[i];
         inverse_distances(px.data(), py.data(), pz.data(), np, x, inv.data());
         float* val = &near_val_[near_start_[i]];
+        closed_at.clear();
+        closed_frames.clear();
         for (size_t k = 0; k < cols.size(); ++k) {
           const uint32_t j = cols[k];
           double v = 0;
           if (src_.is_near(j, x)) {
-            // Closed form or the degree-6 band: unit_potential's own rule.
-            near_potential_field(src_, j, x, &v, nullptr);
+            // Closed form or the degree-6 band: unit_potential's own rule
+            // (the closed form below, batched; a zero-area or degenerate
+            // triangle has no potential, as in near_potential_field).
+            if (src_.is_closed_form(j, x)) {
+              if (src_.area[j] > 0 && !frames[j].degenerate) {
+                closed_at.push_back(uint32_t(k));
+                closed_frames.push_back(&frames[j]);
+              }
+            } else if (src_.area[j] > 0) {
+              const size_t o = size_t(j) * mb;
+              v = weighted_inverse_sum(&bx[o], &by[o], &bz[o], band_rule.weights.data(), mb, x);
+            }
           } else {
             for (int q = 0; q < m; ++q) v += src_.qweights[q] * inv[k * m + q];
           }
           val[k] = static_cast<float>(v);
         }
+        closed_value.resize(closed_at.size());
+        tracer::closed_form_potentials(closed_frames.data(), int(closed_frames.size()), x, closed_value.data());
+        for (size_t c = 0; c < closed_at.size(); ++c)
+          val[closed_at[c]] = static_cast<float>(closed_value[c] / src_.area[cols[closed_at[c]]]);
       }
     }
   }

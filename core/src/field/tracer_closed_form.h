@@ -28,4 +28,11 @@ TriangleFrame triangle_frame(Vec3 a, Vec3 b, Vec3 c);
 // principal value 0, as in triangle_integrals.
 Vec3 closed_form_field(const TriangleFrame& t, Vec3 x);
 
+// Integral over the triangle of 1 / |x - y| dA(y) (divide by the area for a
+// unit total charge): sum over the edges of t0 * log term minus |h| times
+// the solid angle, the same terms as closed_form_field. The collocation's
+// near matrix (collocation.cpp) evaluates it four at a time
+// (closed_form_potentials, tracer_closed_form_batch.h).
+double closed_form_potential(const TriangleFrame& t, Vec3 x);
+
 }  // namespace soupuv::field::tracer

@@ -63,4 +63,11 @@ class ClosedFormBatch {
   int count_ = 0;
 };
 
+// out[k] = closed_form_potential(*frames[k], x) for k < count, four per AVX2
+// pass (lane by lane the same terms; the log and atan2 of tracer_vmath.h,
+// a few ulp from std's). Degenerate frames must not be passed. Why: the
+// collocation's near matrix spent a fifth of its set-up in the scalar
+// closed form's logs and atan2 (docs/tuning.md, session 35).
+void closed_form_potentials(const TriangleFrame* const* frames, int count, Vec3 x, double* out);
+
 }  // namespace soupuv::field::tracer

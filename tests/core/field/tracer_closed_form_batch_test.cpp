@@ -137,3 +137,44 @@ TEST(TracerClosedFormBatch, DegenerateTriangleAddsNothing) {
   EXPECT_EQ(e[1], 0.0);
   EXPECT_EQ(e[2], 0.0);
 }
+
+// The potential, four at a time (the collocation's near matrix), against
+// the scalar closed_form_potential and triangle_integrals' potential, in
+// every mode above and in batches of 1 to 9 (full and partial passes).
+// The potential is better conditioned than the field (its edge terms carry
+// t0 * log, which vanishes at the edge), so the same allowance holds.
+TEST(TracerClosedFormBatch, PotentialsMatchTheScalarFormsInEveryMode) {
+  std::mt19937 rng(7);
+  double worst[kModes] = {};
+  double worst_integrals = 0;
+  for (int it = 0; it < 21000; ++it) {
+    const int count = 1 + it % 9;
+    std::vector<Case> cases;
+    std::vector<tracer::TriangleFrame> frames;
+    const Case base = random_case(rng, it % kModes);
+    for (int t = 0; t < count; ++t) {
+      // Each triangle its own case, all seen from the base point's position
+      // relative to it (so every lane is in the base case's mode).
+      Case k = t == 0 ? base : random_case(rng, it % kModes);
+      const Vec3 shift = base.x - k.x;
+      k.a += shift, k.b += shift, k.c += shift, k.x = base.x;
+      cases.push_back(k);
+      frames.push_back(tracer::triangle_frame(k.a, k.b, k.c));
+    }
+    std::vector<const tracer::TriangleFrame*> pointers;
+    for (const auto& f : frames) pointers.push_back(&f);
+    std::vector<double> got(count);
+    tracer::closed_form_potentials(pointers.data(), count, base.x, got.data());
+    for (int t = 0; t < count; ++t) {
+      const double ref = tracer::closed_form_potential(frames[t], base.x);
+      const double slow = triangle_integrals(cases[t].a, cases[t].b, cases[t].c, base.x).potential;
+      worst[it % kModes] = std::max(worst[it % kModes], std::fabs(got[t] - ref) / std::fabs(ref) / allowed(cases[t]));
+      worst_integrals = std::max(worst_integrals, std::fabs(got[t] - slow) / std::fabs(slow) / allowed(cases[t]));
+    }
+  }
+  std::printf("potential lanes vs closed_form_potential, max rel difference / allowed:");
+  for (int m = 0; m < kModes; ++m) std::printf(" %s %.1e%s", kModeNames[m], worst[m], m + 1 < kModes ? "," : "\n");
+  std::printf("potential lanes vs triangle_integrals, max rel difference / allowed: %.1e\n", worst_integrals);
+  for (int m = 0; m < kModes; ++m) EXPECT_LT(worst[m], 1) << kModeNames[m];
+  EXPECT_LT(worst_integrals, 1);
+}
