@@ -132,6 +132,10 @@ ChargeResult solve_charges(const Soup& soup, const ChargeOptions& options_in, Pr
     if (reached <= target)
       why << "the solver met its own target (" << reached << " <= " << target << " against the order-"
           << options.fmm_order << " FMM), so the rest is that FMM's truncation error";
+    else if (const int budget = options.max_iterations > 0 ? options.max_iterations : kKrylovIterationBudget;
+             r.solver == "krylov" && r.iterations >= budget)
+      why << "the solver stopped at " << reached << " (its target " << target << ") after its budget of " << budget
+          << " mat-vecs (--charge-iterations; a slow solve gave the same maps past it on the corpus)";
     else
       why << "the solver stopped at " << reached << " (its target " << target << ")";
     r.warnings.push_back(why.str());

@@ -189,3 +189,21 @@ TEST(Charge, ExactDuplicateTrianglesShareTheirCharge) {
     for (size_t t = 0, k = n; t < n; t += 3, ++k) EXPECT_DOUBLE_EQ(r.charges[t], r.charges[k]);
   }
 }
+
+// The Krylov solve's effort budget (kKrylovIterationBudget, or
+// max_iterations): it stops there, short of the tolerance, and says so.
+TEST(Charge, KrylovStopsAtItsBudgetAndSaysSo) {
+  Soup soup = shapes::to_soup(shapes::torus_with(1.0, 0.5, 800));
+  ChargeOptions o;
+  o.tolerance = 1e-12;
+  o.max_iterations = 3;
+  ChargeResult r = solve_charges(soup, o);
+  EXPECT_EQ(r.solver, "krylov");
+  EXPECT_LE(r.iterations, 4);  // the budget, and the outer step's accurate mat-vec
+  EXPECT_FALSE(r.converged);
+  bool said = false;
+  for (const auto& w : r.warnings) said = said || w.find("budget of 3 mat-vecs") != std::string::npos;
+  EXPECT_TRUE(said);
+  ChargeOptions d;
+  EXPECT_EQ(d.max_iterations, 0);  // 0: the default budget
+}
