@@ -32,6 +32,7 @@ const std::vector<ParamSpec>& specs() {
       {"resolution", "--resolution", Kind::integer, nullptr, 8, 4096},
       {"solver", "--solver", Kind::choice, nullptr, 0, 0, {"robin-hood", "krylov"}},
       {"tolerance", "--tolerance", Kind::number, nullptr, 1e-12, 1},
+      {"charge_iterations", "--charge-iterations", Kind::integer, nullptr, 1, 100000},
       {"steps", "--steps", Kind::integer, nullptr, 1, 100000},
       {"integrator", "--integrator", Kind::choice, nullptr, 0, 0, {"euler", "midpoint"}},
       {"texture_size", "--texture-size", Kind::integer, nullptr, 64, 4096, {}, true},

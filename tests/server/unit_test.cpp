@@ -90,6 +90,10 @@ TEST(Params, ValidatesAndMapsToFlags) {
   EXPECT_TRUE(validate_params({{"texture_size", "big"}}, caps, out));
   EXPECT_TRUE(validate_params({{"whatever", 1}}, caps, out));
   EXPECT_TRUE(validate_params(nlohmann::json::array(), caps, out));
+  caps.flags.insert("--charge-iterations");
+  EXPECT_FALSE(validate_params({{"charge_iterations", 60}}, caps, out));
+  EXPECT_EQ(params_to_flags(out, caps), (std::vector<std::string>{"--method", "field", "--charge-iterations", "60"}));
+  EXPECT_TRUE(validate_params({{"charge_iterations", 0}}, caps, out));
   // Known to the API but not to this CLI build: refused, not silently dropped.
   auto e = validate_params({{"steps", 100}}, caps, out);
   ASSERT_TRUE(e);
