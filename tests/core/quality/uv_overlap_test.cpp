@@ -5,6 +5,8 @@
 
 #include <gtest/gtest.h>
 
+#include <random>
+
 namespace soupuv::quality {
 namespace {
 
@@ -38,4 +40,55 @@ TEST(UvOverlap, HalfCoveredTwiceAndExcludedTriangles) {
 }
 
 }  // namespace
+
+// The row spans for_each_pixel_centre tests are only a shortcut: it visits
+// exactly the centres the full-box edge test accepts. Random triangles,
+// slivers in every direction, and vertices and edges on centres (integer
+// and half-integer coordinates, where the tie rule decides).
+TEST(UvOverlap, PixelCentresOfTheRowSpansAreThoseOfTheWholeBox) {
+  std::mt19937 rng(3);
+  std::uniform_real_distribution<double> u(0, 40), angle(0, 6.283185307179586), len(0.5, 30), wid(0.01, 2);
+  auto brute = [](const T& q, int w, int h) {
+    std::vector<std::pair<int, int>> out;
+    for (int j = 0; j < h; ++j)
+      for (int i = 0; i < w; ++i) {
+        const double cx = i + 0.5, cy = j + 0.5;
+        bool inside = true;
+        for (int e = 0; e < 3 && inside; ++e) {
+          const Vec2 a = q[e], b = q[(e + 1) % 3];
+          const bool forward = a.x < b.x || (a.x == b.x && a.y < b.y);
+          const Vec2 s = forward ? a : b, t = forward ? b : a;
+          const double w0 = (t.x - s.x) * (cy - s.y) - (t.y - s.y) * (cx - s.x);
+          const double v = forward ? w0 : -w0;
+          const double dx = b.x - a.x, dy = b.y - a.y;
+          inside = v > 0 || (v == 0 && (dy < 0 || (dy == 0 && dx > 0)));
+        }
+        if (inside) out.push_back({i, j});
+      }
+    return out;
+  };
+  size_t visited = 0;
+  for (int it = 0; it < 3000; ++it) {
+    T q;
+    if (it % 3 == 0) {
+      q = T{Vec2{u(rng), u(rng)}, Vec2{u(rng), u(rng)}, Vec2{u(rng), u(rng)}};
+    } else if (it % 3 == 1) {  // a sliver
+      const Vec2 o{u(rng), u(rng)};
+      const double a = angle(rng), l = len(rng), w = wid(rng);
+      const Vec2 d{std::cos(a), std::sin(a)}, n{-d.y, d.x};
+      q = T{o, o + l * d, o + l * d + w * n};
+    } else {  // corners on centres and grid lines
+      auto g = [&] { return std::round(2 * u(rng)) / 2; };
+      q = T{Vec2{g(), g()}, Vec2{g(), g()}, Vec2{g(), g()}};
+    }
+    if ((q[1].x - q[0].x) * (q[2].y - q[0].y) - (q[1].y - q[0].y) * (q[2].x - q[0].x) < 0) std::swap(q[1], q[2]);
+    std::vector<std::pair<int, int>> got;
+    for_each_pixel_centre(q, 48, 48, [&](int i, int j) { got.push_back({i, j}); });
+    const auto want = brute(q, 48, 48);
+    ASSERT_EQ(got, want) << "triangle " << it;
+    visited += got.size();
+  }
+  EXPECT_GT(visited, 10000u);
+}
+
 }  // namespace soupuv::quality

@@ -39,8 +39,34 @@ void for_each_pixel_centre(const std::array<Vec2, 3>& q, int width, int height, 
   const double y0 = std::min({q[0].y, q[1].y, q[2].y}), y1 = std::max({q[0].y, q[1].y, q[2].y});
   const int i0 = std::max(0, int(std::ceil(x0 - 0.5))), i1 = std::min(width - 1, int(std::floor(x1 - 0.5)));
   const int j0 = std::max(0, int(std::ceil(y0 - 0.5))), j1 = std::min(height - 1, int(std::floor(y1 - 0.5)));
-  for (int j = j0; j <= j1; ++j)
-    for (int i = i0; i <= i1; ++i) {
+  for (int j = j0; j <= j1; ++j) {
+    // The row's inside centres lie between the triangle's crossings of its
+    // centre line: only those (and a pixel either side, for rounding) are
+    // tested, the exact test below still decides. A sliver's box holds
+    // several times its centres (the UV solve's overlap samples: 6x on
+    // table, 3x on beast; docs/tuning.md, session 35).
+    int lo = i0, hi = i1;
+    {
+      const double cy = j + 0.5;
+      double xl = INFINITY, xr = -INFINITY;
+      for (int e = 0; e < 3; ++e) {
+        const Vec2 a = q[e], b = q[(e + 1) % 3];
+        if (!((a.y <= cy && cy <= b.y) || (b.y <= cy && cy <= a.y))) continue;
+        if (a.y == b.y) {
+          xl = std::min({xl, a.x, b.x});
+          xr = std::max({xr, a.x, b.x});
+        } else {
+          const double x = a.x + (cy - a.y) * (b.x - a.x) / (b.y - a.y);
+          xl = std::min(xl, x);
+          xr = std::max(xr, x);
+        }
+      }
+      if (xl <= xr) {
+        lo = std::max(i0, int(std::floor(xl - 0.5)) - 1);
+        hi = std::min(i1, int(std::ceil(xr - 0.5)) + 1);
+      }
+    }
+    for (int i = lo; i <= hi; ++i) {
       const double cx = i + 0.5, cy = j + 0.5;
       bool inside = true;
       for (int e = 0; e < 3 && inside; ++e) {
@@ -60,6 +86,7 @@ void for_each_pixel_centre(const std::array<Vec2, 3>& q, int width, int height, 
       }
       if (inside) f(i, j);
     }
+  }
 }
 
 UvOverlap uv_overlap(const std::vector<std::array<Vec2, 3>>& uvs, const std::vector<uint8_t>& include,
