@@ -48,23 +48,12 @@ TEST(UvOverlap, HalfCoveredTwiceAndExcludedTriangles) {
 TEST(UvOverlap, PixelCentresOfTheRowSpansAreThoseOfTheWholeBox) {
   std::mt19937 rng(3);
   std::uniform_real_distribution<double> u(0, 40), angle(0, 6.283185307179586), len(0.5, 30), wid(0.01, 2);
+  // The whole box, centre by centre.
   auto brute = [](const T& q, int w, int h) {
     std::vector<std::pair<int, int>> out;
     for (int j = 0; j < h; ++j)
-      for (int i = 0; i < w; ++i) {
-        const double cx = i + 0.5, cy = j + 0.5;
-        bool inside = true;
-        for (int e = 0; e < 3 && inside; ++e) {
-          const Vec2 a = q[e], b = q[(e + 1) % 3];
-          const bool forward = a.x < b.x || (a.x == b.x && a.y < b.y);
-          const Vec2 s = forward ? a : b, t = forward ? b : a;
-          const double w0 = (t.x - s.x) * (cy - s.y) - (t.y - s.y) * (cx - s.x);
-          const double v = forward ? w0 : -w0;
-          const double dx = b.x - a.x, dy = b.y - a.y;
-          inside = v > 0 || (v == 0 && (dy < 0 || (dy == 0 && dx > 0)));
-        }
-        if (inside) out.push_back({i, j});
-      }
+      for (int i = 0; i < w; ++i)
+        if (pixel_centre_inside(q, i + 0.5, j + 0.5)) out.push_back({i, j});
     return out;
   };
   size_t visited = 0;

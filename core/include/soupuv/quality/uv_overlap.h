@@ -28,6 +28,27 @@ struct UvOverlap {
   double overlap = 0;
 };
 
+// Whether the point (cx, cy) belongs to the counter-clockwise triangle q by
+// the raster's rule (for_each_pixel_centre below).
+inline bool pixel_centre_inside(const std::array<Vec2, 3>& q, double cx, double cy) {
+  for (int e = 0; e < 3; ++e) {
+    const Vec2 a = q[e], b = q[(e + 1) % 3];
+    // The edge function from the edge's lower endpoint, negated for the
+    // other direction: the two triangles sharing an edge compute the
+    // same value with opposite signs, so a centre exactly on the edge
+    // goes to exactly one of them (rounding in either order could give
+    // it to both).
+    const bool forward = a.x < b.x || (a.x == b.x && a.y < b.y);
+    const Vec2 s = forward ? a : b, t = forward ? b : a;
+    const double w0 = (t.x - s.x) * (cy - s.y) - (t.y - s.y) * (cx - s.x);
+    const double w = forward ? w0 : -w0;
+    const double dx = b.x - a.x, dy = b.y - a.y;
+    const bool top_left = dy < 0 || (dy == 0 && dx > 0);
+    if (!(w > 0 || (w == 0 && top_left))) return false;
+  }
+  return true;
+}
+
 // Calls f(ix, iy) for every sample point (ix + 1/2, iy + 1/2) of a width x
 // height grid strictly inside the counter-clockwise triangle q (grid
 // units), an edge's own points belonging to the triangle on its top or left
@@ -67,24 +88,7 @@ void for_each_pixel_centre(const std::array<Vec2, 3>& q, int width, int height, 
       }
     }
     for (int i = lo; i <= hi; ++i) {
-      const double cx = i + 0.5, cy = j + 0.5;
-      bool inside = true;
-      for (int e = 0; e < 3 && inside; ++e) {
-        const Vec2 a = q[e], b = q[(e + 1) % 3];
-        // The edge function from the edge's lower endpoint, negated for the
-        // other direction: the two triangles sharing an edge compute the
-        // same value with opposite signs, so a centre exactly on the edge
-        // goes to exactly one of them (rounding in either order could give
-        // it to both).
-        const bool forward = a.x < b.x || (a.x == b.x && a.y < b.y);
-        const Vec2 s = forward ? a : b, t = forward ? b : a;
-        const double w0 = (t.x - s.x) * (cy - s.y) - (t.y - s.y) * (cx - s.x);
-        const double w = forward ? w0 : -w0;
-        const double dx = b.x - a.x, dy = b.y - a.y;
-        const bool top_left = dy < 0 || (dy == 0 && dx > 0);
-        inside = w > 0 || (w == 0 && top_left);
-      }
-      if (inside) f(i, j);
+      if (pixel_centre_inside(q, i + 0.5, j + 0.5)) f(i, j);
     }
   }
 }
