@@ -44,10 +44,15 @@ SoupUvResult solve_soup_uvs(const Soup& soup, const geometry::Weld& weld,
   detail::UvLayout layout =
       detail::build_uv_mesh(soup, weld, transferred, corner_chart, texel, uv_per_length);
   const std::vector<geometry::AdjacentPair> pairs = geometry::edge_adjacency(weld, soup.triangles.size());
-  d["uv_mesh"] = {{"vertices", layout.uv.size()},
-                  {"islands", layout.island_count},
-                  {"kept_pairs", detail::kept_pair_share(pairs, layout)},
-                  {"seconds", since(t0)}};
+  // A step's diagnostics: its own figures, then what every step reports
+  // (the islands and the weld's pairs it leaves, its seconds since `start`).
+  auto report = [&](const char* name, nlohmann::json figures, Clock::time_point start) {
+    figures["islands"] = layout.island_count;
+    figures["kept_pairs"] = detail::kept_pair_share(pairs, layout);
+    figures["seconds"] = since(start);
+    d[name] = std::move(figures);
+  };
+  report("uv_mesh", {{"vertices", layout.uv.size()}}, t0);
 
   auto t_untangle = Clock::now();
   const size_t mirrored = detail::orient_islands(soup, layout);
@@ -91,12 +96,11 @@ SoupUvResult solve_soup_uvs(const Soup& soup, const geometry::Weld& weld,
 
   auto t1 = Clock::now();
   const detail::FoldCutFigures fc = detail::cut_folds(soup, uv_per_length, options.collapse_ratio, layout);
-  d["fold_cut"] = {{"cut_triangles", fc.cut_triangles},
-                   {"unfolded_triangles", fc.unfolded_triangles},
-                   {"seeded_islands", fc.seeded_islands},
-                   {"islands", layout.island_count},
-                   {"kept_pairs", detail::kept_pair_share(pairs, layout)},
-                   {"seconds", since(t1)}};
+  report("fold_cut",
+         {{"cut_triangles", fc.cut_triangles},
+          {"unfolded_triangles", fc.unfolded_triangles},
+          {"seeded_islands", fc.seeded_islands}},
+         t1);
   progress.update("uv_solve", 0.1);
 
   auto t2 = Clock::now();
@@ -126,13 +130,12 @@ SoupUvResult solve_soup_uvs(const Soup& soup, const geometry::Weld& weld,
     reembed(lapping, "reembed_overlaps", t3);
   }
   const detail::OverlapSplitFigures of = detail::split_overlaps(cell, options.threads, layout);
-  d["overlap_split"] = {{"overlapping_islands", of.overlapping_islands},
-                        {"pieces_added", of.pieces_added},
-                        {"singleton_pieces", of.singleton_pieces},
-                        {"unfolded_singletons", of.unfolded_singletons},
-                        {"islands", layout.island_count},
-                        {"kept_pairs", detail::kept_pair_share(pairs, layout)},
-                        {"seconds", since(t3)}};
+  report("overlap_split",
+         {{"overlapping_islands", of.overlapping_islands},
+          {"pieces_added", of.pieces_added},
+          {"singleton_pieces", of.singleton_pieces},
+          {"unfolded_singletons", of.unfolded_singletons}},
+         t3);
   progress.update("uv_solve", 0.8);
 
   // Islands whose shapes flatten together are joined by flattening the union.
@@ -141,12 +144,7 @@ SoupUvResult solve_soup_uvs(const Soup& soup, const geometry::Weld& weld,
     const detail::UnionMergeFigures uf2 = detail::merge_by_reflattening(
         soup, uv_per_length, pairs, cell, options.reembed_max_stretch,
         options.solve_iterations, options.merge_attempts_per_island, options.threads, layout);
-    d["union_merge"] = {{"attempts", uf2.attempts},
-                        {"joined", uf2.joined},
-                        {"repeated", uf2.repeated},
-                        {"islands", layout.island_count},
-                        {"kept_pairs", detail::kept_pair_share(pairs, layout)},
-                        {"seconds", since(t_um)}};
+    report("union_merge", {{"attempts", uf2.attempts}, {"joined", uf2.joined}, {"repeated", uf2.repeated}}, t_um);
   }
 
   // Seams the transfer or the split cut where a flat map can close them
@@ -187,17 +185,16 @@ SoupUvResult solve_soup_uvs(const Soup& soup, const geometry::Weld& weld,
       soup, pairs, uv_per_length, options.collapse_ratio, options.reembed_max_stretch,
       options.attach_small_islands ? small_side * small_side : 0,
       options.attach_max_lap_texels * full_texel * full_texel, layout);
-  d["attach"] = {{"candidates", af.candidates},
-                 {"attempts", af.attempts},
-                 {"attached", af.attached},
-                 {"refused_fold", af.refused_fold},
-                 {"refused_stretch", af.refused_stretch},
-                 {"refused_overlap", af.refused_overlap},
-                 {"attached_with_lap", af.attached_with_lap},
-                 {"lapped_texels", full_texel > 0 ? af.lapped_area / (full_texel * full_texel) : 0.0},
-                 {"islands", layout.island_count},
-                 {"kept_pairs", detail::kept_pair_share(pairs, layout)},
-                 {"seconds", since(t_attach)}};
+  report("attach",
+         {{"candidates", af.candidates},
+          {"attempts", af.attempts},
+          {"attached", af.attached},
+          {"refused_fold", af.refused_fold},
+          {"refused_stretch", af.refused_stretch},
+          {"refused_overlap", af.refused_overlap},
+          {"attached_with_lap", af.attached_with_lap},
+          {"lapped_texels", full_texel > 0 ? af.lapped_area / (full_texel * full_texel) : 0.0}},
+         t_attach);
 
   // Triangles that zigzag across a seam join the island they are welded
   // to on two or three edges.
@@ -206,31 +203,29 @@ SoupUvResult solve_soup_uvs(const Soup& soup, const geometry::Weld& weld,
     const detail::SeamSmoothFigures sm = detail::smooth_seams(
         soup, pairs, uv_per_length, options.collapse_ratio, options.reembed_max_stretch,
         options.attach_max_lap_texels * full_texel * full_texel, layout);
-    d["seam_smooth"] = {{"candidates", sm.candidates},
-                        {"moved", sm.moved},
-                        {"relaxed", sm.relaxed},
-                        {"refused_fold", sm.refused_fold},
-                        {"refused_stretch", sm.refused_stretch},
-                        {"refused_overlap", sm.refused_overlap},
-                        {"passes", sm.passes},
-                        {"islands", layout.island_count},
-                        {"kept_pairs", detail::kept_pair_share(pairs, layout)},
-                        {"seconds", since(t_smooth)}};
+    report("seam_smooth",
+           {{"candidates", sm.candidates},
+            {"moved", sm.moved},
+            {"relaxed", sm.relaxed},
+            {"refused_fold", sm.refused_fold},
+            {"refused_stretch", sm.refused_stretch},
+            {"refused_overlap", sm.refused_overlap},
+            {"passes", sm.passes}},
+           t_smooth);
   }
 
   // Stacks of slivers the noise scrambles: one grid each, ranked by height.
   if (options.sliver_stacks) {
     auto t_stack = Clock::now();
     const detail::SliverStackFigures sf = detail::lay_sliver_stacks(soup, pairs, uv_per_length, layout);
-    d["sliver_stacks"] = {{"noise", sf.noise},
-                          {"stacks", sf.stacks},
-                          {"columns", sf.columns},
-                          {"triangles", sf.triangles},
-                          {"skipped_stacks", sf.skipped_stacks},
-                          {"kept_by_islands", sf.kept_by_islands},
-                          {"islands", layout.island_count},
-                          {"kept_pairs", detail::kept_pair_share(pairs, layout)},
-                          {"seconds", since(t_stack)}};
+    report("sliver_stacks",
+           {{"noise", sf.noise},
+            {"stacks", sf.stacks},
+            {"columns", sf.columns},
+            {"triangles", sf.triangles},
+            {"skipped_stacks", sf.skipped_stacks},
+            {"kept_by_islands", sf.kept_by_islands}},
+           t_stack);
   }
 
   auto t4 = Clock::now();
@@ -256,16 +251,15 @@ SoupUvResult solve_soup_uvs(const Soup& soup, const geometry::Weld& weld,
     thorough = {{"utilisation", tried.utilisation}, {"kept", tried.utilisation > pf.utilisation}};
     if (tried.utilisation > pf.utilisation) pf = tried, r.corner_uvs = std::move(uvs);
   }
-  d["pack"] = {{"islands", layout.island_count},
-               {"texels_per_uv", pf.texels_per_uv},
-               {"utilisation", pf.utilisation},
-               {"attempts", pf.attempts},
-               {"units", pf.units},
-               {"grouped_islands", pf.grouped_islands},
-               {"halving", halving},
-               {"thorough", thorough},
-               {"kept_pairs", detail::kept_pair_share(pairs, layout)},
-               {"seconds", since(t4)}};
+  report("pack",
+         {{"texels_per_uv", pf.texels_per_uv},
+          {"utilisation", pf.utilisation},
+          {"attempts", pf.attempts},
+          {"units", pf.units},
+          {"grouped_islands", pf.grouped_islands},
+          {"halving", halving},
+          {"thorough", thorough}},
+         t4);
   d["seconds"] = since(t0);
   progress.update("uv_solve", 1);
   return r;
