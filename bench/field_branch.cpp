@@ -20,7 +20,8 @@
 // the first variant, in texels at 1024.
 //
 // Variant keys: p (fmm_order), theta, leaf, step (fraction of the diagonal),
-// eps (start offset in mean source edges; default 1e-3), steps (max_steps),
+// eps (start offset in mean source edges, the same for every line; the
+// default is 0.03 of each seed's own edge), steps (max_steps),
 // stop (stop radius in diagonals from the box centre), trapped, reach (the
 // field branch's box stop for a proxy reach of that many diagonals, e.g.
 // 0.12: the bounding box grown by kReachMargin x 0.12 diagonals).

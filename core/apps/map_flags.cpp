@@ -150,6 +150,9 @@ std::vector<MapFlag> make_table() {
           [](MapArgs& m, const std::string& v) { opt(m).seed_weld_edge_fraction = num(v); }),
       val("--steps", "N", whole_number_in(1, 100000), kField, "field-line step limit (default 100)",
           [](MapArgs& m, const std::string& v) { opt(m).trace.max_steps = whole(v); }),
+      val("--line-start", "F", number_in(0, 1, true, true), kField,
+          "field lines start F x the mean edge of their seed's triangles off the surface (0.03)",
+          [](MapArgs& m, const std::string& v) { opt(m).trace.start_offset_fraction = num(v); }),
       val("--integrator", "NAME", one_of({"euler", "midpoint"}), kField, "field-line integrator",
           [](MapArgs& m, const std::string& v) {
             opt(m).trace.integrator = v == "euler" ? field::TraceOptions::Integrator::euler

@@ -1,7 +1,8 @@
 // Field-line tracing (paper §7.6).
 //
 // Inputs: a ChargeResult (charged source triangles) and seeds; output: one
-// polyline per seed (FieldLines). A line starts at v + eps * n on the side
+// polyline per seed (FieldLines). A line starts at v + eps * n (eps: the
+// seed's start offset, a fraction of its local edge length) on the side
 // where |E| is larger and steps along E/|E| (eq. 10) by explicit Euler or the
 // midpoint method. The step shrinks near the surface to a fraction (0.5 ..
 // near_step_fraction < 1, larger where the line runs straight) of the
@@ -39,14 +40,19 @@
 
 namespace soupuv::field {
 
+namespace {
+double triangle_mean_edge(Vec3 a, Vec3 b, Vec3 c) { return (norm(b - a) + norm(c - b) + norm(a - c)) / 3.0; }
+}  // namespace
+
 std::vector<TraceSeed> corner_seeds(const Soup& soup) {
   std::vector<TraceSeed> seeds;
   seeds.reserve(soup.triangles.size() * 3);
   for (size_t t = 0; t < soup.triangles.size(); ++t) {
     Vec3 n = triangle_normal(soup, t);
     Vec3 g = (soup.corner(t, 0) + soup.corner(t, 1) + soup.corner(t, 2)) / 3.0;
+    const double scale = triangle_mean_edge(soup.corner(t, 0), soup.corner(t, 1), soup.corner(t, 2));
     for (int k = 0; k < 3; ++k)
-      seeds.push_back({soup.corner(t, k), n, 0, static_cast<uint32_t>(t * 3 + k), g, true});
+      seeds.push_back({soup.corner(t, k), n, 0, static_cast<uint32_t>(t * 3 + k), g, true, scale});
   }
   return seeds;
 }
@@ -54,9 +60,11 @@ std::vector<TraceSeed> corner_seeds(const Soup& soup) {
 std::vector<TraceSeed> vertex_seeds(const TriMesh& mesh) {
   std::vector<TraceSeed> seeds(mesh.vertices.size());
   std::vector<bool> used(mesh.vertices.size(), false);
+  std::vector<int> faces(mesh.vertices.size(), 0);
   for (size_t t = 0; t < mesh.faces.size(); ++t) {
     const auto& f = mesh.faces[t];
     const Vec3 n = cross(mesh.vertices[f[1]] - mesh.vertices[f[0]], mesh.vertices[f[2]] - mesh.vertices[f[0]]);
+    const double edge = triangle_mean_edge(mesh.vertices[f[0]], mesh.vertices[f[1]], mesh.vertices[f[2]]);
     for (int k = 0; k < 3; ++k) {
       TraceSeed& s = seeds[f[k]];
       if (!used[f[k]]) {
@@ -66,11 +74,16 @@ std::vector<TraceSeed> vertex_seeds(const TriMesh& mesh) {
         s.corner = static_cast<uint32_t>(t * 3 + k);
       }
       s.normal += n;
+      s.scale += edge;
+      ++faces[f[k]];
     }
   }
   std::vector<TraceSeed> out;
   for (size_t v = 0; v < seeds.size(); ++v)
-    if (used[v]) out.push_back(seeds[v]);
+    if (used[v]) {
+      seeds[v].scale /= faces[v];
+      out.push_back(seeds[v]);
+    }
   return out;
 }
 
@@ -256,7 +269,7 @@ struct FieldLineTracer::Impl {
     center = box.center();
     const double diag = box.diagonal();
     step = o.step > 0 ? o.step : 0.02 * diag;
-    eps = o.start_offset > 0 ? o.start_offset : 1e-3 * edge_sum / (3.0 * src.size());
+    mean_edge = edge_sum / (3.0 * src.size());
     stop_radius = o.stop_radius > 0 ? o.stop_radius : diag;  // twice the half diagonal
     stalled_field = 1e-9 / (diag * diag);  // total charge is 1
     nth = o.threads > 0 ? o.threads : omp_get_max_threads();
@@ -308,6 +321,7 @@ struct FieldLineTracer::Impl {
       const TraceSeed& seed = seeds[probed[k]];
       Vec3 base = seed.position;
       if (seed.has_interior) base = base + 0.05 * (seed.interior - seed.position);
+      const double eps = start_offset(seed);
       X[k] = base + eps * nrm[probed[k]];
       X[np + k] = base - eps * nrm[probed[k]];
     }
@@ -320,11 +334,17 @@ struct FieldLineTracer::Impl {
 
   FieldLines trace(const std::vector<TraceSeed>& seeds, Progress& progress);
 
+  // Epsilon of one seed (TraceOptions::start_offset).
+  double start_offset(const TraceSeed& seed) const {
+    if (options.start_offset > 0) return options.start_offset;
+    return options.start_offset_fraction * (seed.scale > 0 ? seed.scale : mean_edge);
+  }
+
   const TraceOptions options;
   const Clock::time_point t0;
   const SourceGeometry src;
   Vec3 center;
-  double step = 0, eps = 0, stop_radius = 0, stalled_field = 0, build_seconds = 0;
+  double step = 0, mean_edge = 0, stop_radius = 0, stalled_field = 0, build_seconds = 0;
   int nth = 1;
   std::unique_ptr<BatchField> field;
   // Totals over every probe and trace (TraceStats).
@@ -388,10 +408,12 @@ FieldLines FieldLineTracer::Impl::trace(const std::vector<TraceSeed>& seeds, Pro
   std::vector<LineEnd> ends(n, LineEnd::step_limit);
   std::vector<long> active(n);
   std::vector<Vec3> pos(n);
+  std::vector<double> eps(n);  // per line: its seed's start offset
   std::vector<int> line_leaf(n, -1);
   for (long s = 0; s < n; ++s) {
     active[s] = s;
-    pos[s] = seeds[s].position + (side[s] * eps) * nrm[s];
+    eps[s] = start_offset(seeds[s]);
+    pos[s] = seeds[s].position + (side[s] * eps[s]) * nrm[s];
     lines[s].push_back(seeds[s].position);
     lines[s].push_back(pos[s]);
   }
@@ -421,7 +443,7 @@ FieldLines FieldLineTracer::Impl::trace(const std::vector<TraceSeed>& seeds, Pro
     // TraceOptions::trapped_steps, counts crawling steps there); the larger
     // reach ramps in up to 4 eps: a step rule that jumps would let the
     // last digits of E pick between two step lengths.
-    const double ramp = std::clamp((d - 2 * eps) / (2 * eps), 0.0, 1.0);
+    const double ramp = std::clamp((d - 2 * eps[s]) / (2 * eps[s]), 0.0, 1.0);
     double reach = max_fraction * d;
     if (growth > 0) reach = std::max(reach, std::min(step, growth * last_h[s]));
     const double upper = min_fraction * d + ramp * (reach - min_fraction * d);
@@ -462,14 +484,14 @@ FieldLines FieldLineTracer::Impl::trace(const std::vector<TraceSeed>& seeds, Pro
         ends[active[a]] = LineEnd::stalled;
         continue;
       }
-      h[a] = options.adaptive_step ? std::min(step, std::max(eps, near_step(active[a], E[a], nearest[a]))) : step;
+      const long s = active[a];
+      h[a] = options.adaptive_step ? std::min(step, std::max(eps[s], near_step(s, E[a], nearest[a]))) : step;
       if (grow) {
-        const double bound = std::min(step, std::max(eps, max_fraction * nearest[a]));
+        const double bound = std::min(step, std::max(eps[s], max_fraction * nearest[a]));
         safe_h[a] = h[a] > bound ? bound : 0.0;
       }
       if (!detect_trapped) continue;
-      const long s = active[a];
-      crawl[s] = nearest[a] < 2 * eps ? crawl[s] + 1 : 0;
+      crawl[s] = nearest[a] < 2 * eps[s] ? crawl[s] + 1 : 0;
       if (crawl[s] >= options.trapped_steps) {
         ends[s] = LineEnd::trapped;
         h[a] = 0;

@@ -52,7 +52,8 @@ std::string charge_params(const field::ChargeOptions& o) {
 // `o`: the trace options as traced (stop sphere and box filled in).
 std::string trace_params(const FieldBranchOptions& b, const field::TraceOptions& o) {
   cache::ByteWriter w;
-  w.put(int(o.integrator)), w.put(o.max_steps), w.put(o.step), w.put(o.start_offset), w.put(o.stop_radius);
+  w.put(int(o.integrator)), w.put(o.max_steps), w.put(o.step), w.put(o.start_offset), w.put(o.start_offset_fraction);
+  w.put(o.stop_radius);
   for (const Vec3& c : {o.stop_box.lo, o.stop_box.hi}) w.put(c.x), w.put(c.y), w.put(c.z);
   w.put(o.fmm_order), w.put(o.fmm_theta), w.put(o.keep_points), w.put(o.adaptive_step), w.put(o.near_step_fraction);
   w.put(o.max_turn_per_step), w.put(o.max_step_growth), w.put(o.direct), w.put(o.fmm_leaf_size);
@@ -277,8 +278,6 @@ FieldBranchResult run_field_branch(const Soup& soup, const std::string& soup_has
     // The sphere around the grown box: the tracer's FMM region, never the stop.
     trace_options.stop_radius = 0.5 * trace_options.stop_box.diagonal() * (1 + 1e-9);
   }
-  if (!(trace_options.start_offset > 0) && options.start_offset_edges > 0)
-    trace_options.start_offset = options.start_offset_edges * mean_edge_length(soup);
 
   // Charges: cached by the soup, the refinement switch and the charge options.
   const std::string charge_key =

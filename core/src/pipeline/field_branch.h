@@ -59,16 +59,6 @@ struct FieldBranchOptions {
   // median shift 0, 0.02 % of corners > 1 texel, continuity 0.98565 ->
   // 0.98564, hit fraction and fallbacks equal).
   double proxy_reach = 0;
-  // With trace.start_offset 0 and this > 0: lines start this many mean soup
-  // edge lengths off the surface (0: the tracer's own 1e-3). Each 1.5x saves
-  // one near-surface step, the most expensive kind, but it costs quality on
-  // the 100k torus (box stop as above, tracer of 8cae232; 1e-3 -> 0.03 ->
-  // 0.1 edges: 2.88 -> 2.32 -> 1.88 M evaluations, continuity 0.98564 ->
-  // 0.98546 -> 0.98487, UV islands 11 -> 28 -> 45, L2 1.115 -> 1.112 ->
-  // 1.135), and 0.01 saves little (2.90 -> 2.66 M evaluations, CPU -2 %;
-  // continuity 0.98566 -> 0.98563, islands 12 -> 13, fallbacks 24 -> 2), so
-  // it is off.
-  double start_offset_edges = 0;
   // Set: called once, after the charges, before the trace (it may wait for
   // the proxy branch). A mesh it returns ends each line at its first
   // crossing of it (TraceOptions::stop_crossing): the transfer lands lines

@@ -15,6 +15,7 @@ SharedSeeds shared_seeds(const Soup& soup, const geometry::Weld& weld,
   group_of_key.reserve(weld.vertex_count);
   std::vector<Vec3> position_sum, normal_sum, interior_sum;
   std::vector<uint32_t> count;
+  std::vector<double> edge_sum;  // the group's triangles' edges
   for (size_t c = 0; c < corners; ++c) {
     const size_t t = c / 3;
     const uint64_t key = (uint64_t(orientation.component[t]) << 32) | weld.corner_vertex[c];
@@ -25,6 +26,7 @@ SharedSeeds shared_seeds(const Soup& soup, const geometry::Weld& weld,
       normal_sum.push_back({0, 0, 0});
       interior_sum.push_back({0, 0, 0});
       count.push_back(0);
+      edge_sum.push_back(0);
       s.component.push_back(orientation.component[t]);
       s.area.push_back(0);
       field::TraceSeed seed;
@@ -39,6 +41,8 @@ SharedSeeds shared_seeds(const Soup& soup, const geometry::Weld& weld,
     interior_sum[g] = interior_sum[g] +
                       (soup.corner(t, 0) + soup.corner(t, 1) + soup.corner(t, 2)) / 3.0;
     s.area[g] += a;
+    edge_sum[g] += norm(soup.corner(t, 1) - soup.corner(t, 0)) + norm(soup.corner(t, 2) - soup.corner(t, 1)) +
+                   norm(soup.corner(t, 0) - soup.corner(t, 2));
     ++count[g];
   }
   for (size_t g = 0; g < s.seeds.size(); ++g) {
@@ -50,6 +54,7 @@ SharedSeeds shared_seeds(const Soup& soup, const geometry::Weld& weld,
                                            : triangle_normal(soup, seed.corner / 3);
     seed.interior = interior_sum[g] / double(count[g]);
     seed.has_interior = true;
+    seed.scale = edge_sum[g] / (3.0 * count[g]);
     seed.side = 0;
   }
   return s;

@@ -13,8 +13,10 @@
 //         orientation (field::consistent_orientation) of the weld's graph.
 // Output: one group per (welded vertex, orientation component); per group a
 //         seed at the mean of its copies, along the area-weighted mean of their
-//         consistently oriented normals (side 0: the tracer picks by |E|), and
-//         the group of every soup corner.
+//         consistently oriented normals (side 0: the tracer picks by |E|),
+//         with the mean edge of their triangles as its scale (the tracer
+//         starts the line a fraction of it off the surface), and the group
+//         of every soup corner.
 #pragma once
 
 #include <cstdint>

@@ -34,8 +34,21 @@ bool crossing(const FieldLines& l, size_t i, double o, Vec3& at) {
 
 // The reference: the distance rule alone, fine steps and turns, long enough
 // to pass the offsets the tests look at.
-TraceOptions reference_options() {
+// Every trace here starts its lines 1e-3 of the mean source edge off the
+// surface (the tracer's default is 0.03 of each seed's own edge,
+// TraceOptions::start_offset_fraction): the grown step is studied where it
+// matters most, on a long climb from very close to the soup.
+double close_start(const ChargeResult& c) {
+  double edges = 0;
+  for (const Tri& t : c.triangles)
+    edges += norm(c.positions[t[1]] - c.positions[t[0]]) + norm(c.positions[t[2]] - c.positions[t[1]]) +
+             norm(c.positions[t[0]] - c.positions[t[2]]);
+  return 1e-3 * edges / (3.0 * c.triangles.size());
+}
+
+TraceOptions reference_options(const ChargeResult& c) {
   TraceOptions o;
+  o.start_offset = close_start(c);
   o.max_step_growth = 0;
   o.near_step_fraction = 0.5;
   o.max_turn_per_step = 0.01;
@@ -45,8 +58,9 @@ TraceOptions reference_options() {
   return o;
 }
 
-TraceOptions table5_like(double growth) {
+TraceOptions table5_like(const ChargeResult& c, double growth) {
   TraceOptions o;
+  o.start_offset = close_start(c);
   o.max_steps = 50;
   o.step = 0.02;
   o.stop_radius = 100;
@@ -61,10 +75,10 @@ TEST(TraceStepGrowth, LinesLeaveSoonerAndCrossWhereTheReferenceDoes) {
   const Soup soup = shapes::to_soup(mesh);
   const ChargeResult c = solve_charges(soup, ChargeOptions{});
   const auto seeds = vertex_seeds(mesh);
-  const FieldLines ref = trace_field_lines(c, seeds, reference_options());
+  const FieldLines ref = trace_field_lines(c, seeds, reference_options(c));
   TraceStats s0, s4;
-  const FieldLines l0 = trace_field_lines(c, seeds, table5_like(0), Progress::none(), &s0);
-  const FieldLines l4 = trace_field_lines(c, seeds, table5_like(4), Progress::none(), &s4);
+  const FieldLines l0 = trace_field_lines(c, seeds, table5_like(c, 0), Progress::none(), &s0);
+  const FieldLines l4 = trace_field_lines(c, seeds, table5_like(c, 4), Progress::none(), &s4);
   EXPECT_EQ(s0.grown_steps, 0u);
   EXPECT_GT(s4.grown_steps, 3 * seeds.size());
   // After 8 steps (point 9: seed, start, 8 steps) the grown lines are farther out.
@@ -108,8 +122,8 @@ TEST(TraceStepGrowth, GrownStepsThatMeetTheSoupAreRedone) {
     return count;
   };
   TraceStats s0, s16;
-  const FieldLines l0 = trace_field_lines(c, seeds, table5_like(0), Progress::none(), &s0);
-  const FieldLines l16 = trace_field_lines(c, seeds, table5_like(16), Progress::none(), &s16);
+  const FieldLines l0 = trace_field_lines(c, seeds, table5_like(c, 0), Progress::none(), &s0);
+  const FieldLines l16 = trace_field_lines(c, seeds, table5_like(c, 16), Progress::none(), &s16);
   const size_t m0 = meeting(l0), m16 = meeting(l16);
   std::printf("noisy soup: %zu of %zu grown steps redone; lines meeting the soup %zu (distance rule %zu)\n",
               s16.grown_steps_redone, s16.grown_steps, m16, m0);
@@ -131,9 +145,10 @@ TEST(TraceStepGrowth, RoughSoupCrossingsMatchTheDistanceRule) {
   const Soup soup = shapes::to_soup(shapes::torus_with(1.0, 0.5, 3200), 5e-3, 1);
   const ChargeResult c = solve_charges(soup, ChargeOptions{});
   const auto seeds = corner_seeds(soup);
-  const FieldLines ref = trace_field_lines(c, seeds, reference_options());
+  const FieldLines ref = trace_field_lines(c, seeds, reference_options(c));
   auto p99_shift = [&](double growth) {
     TraceOptions o;
+    o.start_offset = close_start(c);
     o.max_steps = 50;
     o.stop_radius = 100;
     o.max_step_growth = growth;

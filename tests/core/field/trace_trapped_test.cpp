@@ -64,14 +64,10 @@ TEST(TraceTrapped, CrawlingLinesEndTrappedAndEscapingLinesStillEscape) {
   EXPECT_EQ(st1.trapped, e1.trapped);
   // Every line that escaped without the rule escapes with it, on the same
   // path, unless it really crawled: trapped_steps points in a row within
-  // 2 eps of the soup before it got away. (With the larger adaptive steps,
+  // 2 start offsets (its own eps) of the soup before it got away. (With the larger adaptive steps,
   // TraceOptions::near_step_fraction, 3 of 1,536 lines here crawl 32-35
   // steps, leave, come back to 0.1 eps of the surface and escape; with the
   // half-distance rule they stayed until the step limit.)
-  double edges = 0;
-  for (size_t t = 0; t < soup.triangles.size(); ++t)
-    for (int k = 0; k < 3; ++k) edges += norm(soup.corner(t, k) - soup.corner(t, (k + 1) % 3));
-  const double eps = 1e-3 * edges / (3.0 * soup.triangles.size());
   auto distance = [&](Vec3 p) {
     double best = std::numeric_limits<double>::infinity();
     for (size_t t = 0; t < soup.triangles.size(); ++t)
@@ -83,6 +79,7 @@ TEST(TraceTrapped, CrawlingLinesEndTrappedAndEscapingLinesStillEscape) {
     if (without.ends[i] != LineEnd::escaped) continue;
     if (with.ends[i] != LineEnd::escaped) {
       ++lost;
+      const double eps = o.start_offset_fraction * seeds[i].scale;  // the line's own start offset
       int run = 0, longest = 0;
       for (uint32_t k = without.offsets[i] + 1; k < without.offsets[i + 1]; ++k) {
         run = distance(without.points[k]) < 2.05 * eps ? run + 1 : 0;

@@ -144,8 +144,8 @@ struct ChargeResult {
 ChargeResult solve_charges(const Soup& soup, const ChargeOptions& options,
                            Progress& progress = Progress::none());
 
-// A field line start: the trace begins at position + start_offset * normal on
-// the chosen side.
+// A field line start: the trace begins one start offset (TraceOptions::
+// start_offset) along the normal, on the chosen side.
 struct TraceSeed {
   Vec3 position;
   Vec3 normal;
@@ -156,6 +156,9 @@ struct TraceSeed {
   // neighbouring face's plane and would look like the outside.
   Vec3 interior;
   bool has_interior = false;
+  // A length typical of the soup at the seed: the mean edge of the triangles
+  // that meet there. 0: the mean edge of all source triangles.
+  double scale = 0;
 };
 
 // The FMM order solve_charges uses for `tolerance` when fmm_order is 0.
@@ -173,7 +176,18 @@ struct TraceOptions {
   Integrator integrator = Integrator::midpoint;
   int max_steps = 100;
   double step = 0;           // nominal step length; 0: 2% of the source bounding-box diagonal
-  double start_offset = 0;   // epsilon; 0: 1e-3 * mean source edge length
+  // Epsilon, the distance from a seed to its line's first point: this
+  // length for every seed, or (0) start_offset_fraction of each seed's scale.
+  double start_offset = 0;
+  // Why 0.03 of the local edge: a line climbs from epsilon to the proxy at
+  // about 1.5x its distance per step (the steps near a surface are half the
+  // distance to it), and those steps are the costly ones (every near
+  // triangle in the rule); at 1e-3 of the mean source edge they were 30-45 %
+  // of a map's evaluations. The local scale keeps a small part of a
+  // multi-scale soup (a sphere a tenth the size of its neighbours) from
+  // starting tens of its own edges off. Measured on the corpus, the shared
+  // samples and unseen soups (docs/tuning.md, "Where field lines start").
+  double start_offset_fraction = 0.03;
   double stop_radius = 0;    // stop outside this sphere around the bbox centre; 0: 1.5 * half diagonal + 50 steps
   // Not empty: a line also ends (LineEnd::escaped) once a step takes it
   // outside this box (the pipeline's box beyond which no proxy can lie).
