@@ -22,6 +22,8 @@
 //         each soup triangle's own shape (as eval/uvmetrics.py measures)
 //         is within the budget and at most kLapShare of its samples are
 //         covered twice. On `overlap` the flattened piece is returned too.
+//         SLIM stops early on a piece whose stretch will not reach the
+//         budget at its current rate (refused as `stretch`).
 // Cost  : one sparse LSCM factorisation and SLIM's per piece.
 #pragma once
 
