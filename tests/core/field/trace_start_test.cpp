@@ -30,13 +30,17 @@ double distance_to_first_point(const FieldLines& lines, size_t i) {
   return norm(lines.points[lines.offsets[i] + 1] - lines.points[lines.offsets[i]]);
 }
 
+ChargeResult charged(const Soup& soup) {
+  ChargeOptions co;
+  co.tolerance = 1e-5;
+  return solve_charges(soup, co);
+}
+
 }  // namespace
 
 TEST(TraceStart, EachLineStartsAFractionOfItsSeedsEdgeOff) {
   const Soup soup = two_scales();
-  ChargeOptions co;
-  co.tolerance = 1e-5;
-  const ChargeResult c = solve_charges(soup, co);
+  const ChargeResult c = charged(soup);
   TraceOptions o;
   o.max_steps = 3;
   const std::vector<TraceSeed> seeds = corner_seeds(soup);
@@ -57,9 +61,7 @@ TEST(TraceStart, EachLineStartsAFractionOfItsSeedsEdgeOff) {
 
 TEST(TraceStart, AnAbsoluteStartOffsetHoldsForEverySeedAndNoScaleMeansTheMeanEdge) {
   const Soup soup = two_scales();
-  ChargeOptions co;
-  co.tolerance = 1e-5;
-  const ChargeResult c = solve_charges(soup, co);
+  const ChargeResult c = charged(soup);
   TraceOptions o;
   o.max_steps = 2;
   std::vector<TraceSeed> seeds = corner_seeds(soup);
