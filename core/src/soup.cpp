@@ -32,6 +32,8 @@ double mean_edge_length(const Soup& soup) {
   return soup.triangles.empty() ? 0 : sum / (3.0 * double(soup.triangles.size()));
 }
 
+double triangle_perimeter(Vec3 a, Vec3 b, Vec3 c) { return norm(b - a) + norm(c - b) + norm(a - c); }
+
 std::string geometry_hash(const Soup& soup) {
   // The corners' positions in triangle order, so a soup and the same
   // triangles with shared vertices hash alike. A soup stored corner by corner

@@ -43,6 +43,9 @@ Vec3 triangle_normal(const Soup& soup, size_t t);
 // Mean length of the triangles' edges (each triangle's three; 0 if none).
 double mean_edge_length(const Soup& soup);
 
+// |b - a| + |c - b| + |a - c|.
+double triangle_perimeter(Vec3 a, Vec3 b, Vec3 c);
+
 // 128-bit content hash of the geometry (positions as used by the triangles, in
 // triangle order), as 32 hex digits. Independent of origins and of how the
 // vertices are shared, so the same triangles give the same key for caches.

@@ -40,17 +40,13 @@
 
 namespace soupuv::field {
 
-namespace {
-double triangle_mean_edge(Vec3 a, Vec3 b, Vec3 c) { return (norm(b - a) + norm(c - b) + norm(a - c)) / 3.0; }
-}  // namespace
-
 std::vector<TraceSeed> corner_seeds(const Soup& soup) {
   std::vector<TraceSeed> seeds;
   seeds.reserve(soup.triangles.size() * 3);
   for (size_t t = 0; t < soup.triangles.size(); ++t) {
     Vec3 n = triangle_normal(soup, t);
     Vec3 g = (soup.corner(t, 0) + soup.corner(t, 1) + soup.corner(t, 2)) / 3.0;
-    const double scale = triangle_mean_edge(soup.corner(t, 0), soup.corner(t, 1), soup.corner(t, 2));
+    const double scale = triangle_perimeter(soup.corner(t, 0), soup.corner(t, 1), soup.corner(t, 2)) / 3.0;
     for (int k = 0; k < 3; ++k)
       seeds.push_back({soup.corner(t, k), n, 0, static_cast<uint32_t>(t * 3 + k), g, true, scale});
   }
@@ -64,7 +60,7 @@ std::vector<TraceSeed> vertex_seeds(const TriMesh& mesh) {
   for (size_t t = 0; t < mesh.faces.size(); ++t) {
     const auto& f = mesh.faces[t];
     const Vec3 n = cross(mesh.vertices[f[1]] - mesh.vertices[f[0]], mesh.vertices[f[2]] - mesh.vertices[f[0]]);
-    const double edge = triangle_mean_edge(mesh.vertices[f[0]], mesh.vertices[f[1]], mesh.vertices[f[2]]);
+    const double edge = triangle_perimeter(mesh.vertices[f[0]], mesh.vertices[f[1]], mesh.vertices[f[2]]) / 3.0;
     for (int k = 0; k < 3; ++k) {
       TraceSeed& s = seeds[f[k]];
       if (!used[f[k]]) {
@@ -264,7 +260,7 @@ struct FieldLineTracer::Impl {
     double edge_sum = 0;
     for (size_t j = 0; j < src.size(); ++j) {
       box.add(src.a[j]); box.add(src.b[j]); box.add(src.c[j]);
-      edge_sum += norm(src.b[j] - src.a[j]) + norm(src.c[j] - src.b[j]) + norm(src.a[j] - src.c[j]);
+      edge_sum += triangle_perimeter(src.a[j], src.b[j], src.c[j]);
     }
     center = box.center();
     const double diag = box.diagonal();

@@ -41,8 +41,7 @@ SharedSeeds shared_seeds(const Soup& soup, const geometry::Weld& weld,
     interior_sum[g] = interior_sum[g] +
                       (soup.corner(t, 0) + soup.corner(t, 1) + soup.corner(t, 2)) / 3.0;
     s.area[g] += a;
-    edge_sum[g] += norm(soup.corner(t, 1) - soup.corner(t, 0)) + norm(soup.corner(t, 2) - soup.corner(t, 1)) +
-                   norm(soup.corner(t, 0) - soup.corner(t, 2));
+    edge_sum[g] += triangle_perimeter(soup.corner(t, 0), soup.corner(t, 1), soup.corner(t, 2));
     ++count[g];
   }
   for (size_t g = 0; g < s.seeds.size(); ++g) {
