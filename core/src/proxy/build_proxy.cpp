@@ -80,11 +80,25 @@ struct Extraction {
   int outer = 0, inner = 0;
   size_t raw_triangles = 0, collapsed_triangles = 0, surface_cells = 0, evaluations = 0, pruned = 0;
   double cell = 0;
+  // Triangles the remeshed proxy would have (the level set's area tiled by
+  // equilateral triangles of the target edge; the raw count without one).
+  double estimated_triangles = 0;
+  bool over_budget = false;  // then nothing after marching cubes was done
   double seconds_grid = 0, seconds_extract = 0, seconds_decimate = 0;
 };
 
+// How many triangles `mesh` becomes when remeshed to edge length `edge`
+// (equilateral triangles tiling its area); its own count when edge is 0.
+double remeshed_triangles(const TriMesh& mesh, double edge) {
+  if (!(edge > 0)) return static_cast<double>(mesh.faces.size());
+  double area = 0;
+  for (const auto& f : mesh.faces)
+    area += 0.5 * norm(cross(mesh.vertices[f[1]] - mesh.vertices[f[0]], mesh.vertices[f[2]] - mesh.vertices[f[0]]));
+  return area / (std::sqrt(3.0) / 4 * edge * edge);
+}
+
 Extraction extract(const geometry::DistanceBvh& bvh, const Box3& box, double offset, int resolution,
-                   bool cubes, bool prune, double collapse_to, Progress& progress) {
+                   bool cubes, bool prune, double collapse_to, size_t max_triangles, Progress& progress) {
   Extraction ex;
   Vec3 ext = box.extent();
   ex.cell = std::max({ext.x, ext.y, ext.z}) / resolution;
@@ -94,11 +108,28 @@ Extraction extract(const geometry::DistanceBvh& bvh, const Box3& box, double off
   ex.seconds_grid = since(t0);
   ex.surface_cells = band.cells.size();
   ex.evaluations = band.distance_evaluations;
+  // A cell the level set crosses holds between cell^2 / sqrt(3) (a plane
+  // along a cube's diagonal) and about cell^2 of it: when even the lower
+  // bound is over the budget, marching cubes (seconds at a fine grid) is
+  // skipped; the exact estimate follows the extraction.
+  if (collapse_to > 0 && max_triangles > 0) {
+    const double area_low = static_cast<double>(band.cells.size()) * ex.cell * ex.cell / std::sqrt(3.0);
+    ex.estimated_triangles = area_low / (std::sqrt(3.0) / 4 * collapse_to * collapse_to);
+    if (ex.estimated_triangles > static_cast<double>(max_triangles)) {
+      ex.over_budget = true;
+      return ex;
+    }
+  }
   t0 = Clock::now();
   TriMesh raw = cubes ? marching_cubes(band, progress) : marching_tetrahedra(band, progress);
   band = NarrowBand{};
   ex.raw_triangles = raw.faces.size();
   ex.seconds_extract = since(t0);
+  ex.estimated_triangles = remeshed_triangles(raw, collapse_to);
+  if (max_triangles > 0 && ex.estimated_triangles > static_cast<double>(max_triangles)) {
+    ex.over_budget = true;
+    return ex;
+  }
   if (collapse_to > 0) {
     t0 = Clock::now();
     progress.update("proxy: collapsing short edges", 0);
@@ -206,6 +237,7 @@ nlohmann::json ProxyResult::diagnostics() const {
       {"vertices", vertices},
       {"raw_triangles", raw_triangles},
       {"collapsed_triangles", collapsed_triangles},
+      {"estimated_triangles", estimated_triangles},
       {"surface_cells", surface_cells},
       {"pruned_cells", pruned_cells},
       {"distance_evaluations", distance_evaluations},
@@ -250,6 +282,7 @@ ProxyResult build_proxy(const Soup& soup, const ProxyOptions& options, Progress&
   }
 
   std::optional<ProxyResult> best;
+  std::vector<double> over_budget;  // automatic rungs skipped for the face budget (fractions)
   for (size_t rung = 0; rung < offsets.size(); ++rung) {
     const double offset = offsets[rung];
     const bool last = rung + 1 == offsets.size();
@@ -271,10 +304,22 @@ ProxyResult build_proxy(const Soup& soup, const ProxyOptions& options, Progress&
                            " for this offset: the level set may cut into the soup");
 
     const double target = options.target_edge_length > 0 ? options.target_edge_length : offset;
-    Extraction ex = extract(soup_bvh, box, offset, r.resolution, options.marching_cubes,
-                            options.prune_cavities, options.remesh ? target : 0.0, progress);
+    Extraction ex = extract(soup_bvh, box, offset, r.resolution, options.marching_cubes, options.prune_cavities,
+                            options.remesh ? target : 0.0, options.max_triangles, progress);
+    if (ex.over_budget) {
+      over_budget.push_back(r.offset_fraction);
+      // Automatic: a looser rung has less surface to tile; explicit: say so.
+      if (options.offset_mode == OffsetMode::automatic && !last) continue;
+      throw Error(ErrorCode::invalid_input,
+                  "proxy: offset " + std::to_string(offset) + " with edge length " + std::to_string(target) +
+                      " would make a proxy of about " + std::to_string(std::llround(ex.estimated_triangles)) +
+                      " triangles, over its budget of " + std::to_string(options.max_triangles) +
+                      " (the atlas's cost grows faster than its size); use a larger offset or "
+                      "--proxy-edge, or raise --proxy-max-triangles");
+    }
     r.cell_size = ex.cell;
     r.raw_triangles = ex.raw_triangles;
+    r.estimated_triangles = ex.estimated_triangles;
     r.surface_cells = ex.surface_cells;
     r.pruned_cells = ex.pruned;
     r.distance_evaluations = ex.evaluations;
@@ -332,6 +377,10 @@ ProxyResult build_proxy(const Soup& soup, const ProxyOptions& options, Progress&
   }
 
   ProxyResult result = std::move(*best);
+  if (!over_budget.empty())
+    result.warnings.push_back("automatic offset: " + std::to_string(over_budget.size()) +
+                              " tighter rung(s) skipped, their proxy over the budget of " +
+                              std::to_string(options.max_triangles) + " triangles");
   if (options.offset_mode == OffsetMode::automatic && !(result.outer_components == 1 && acceptable(result)))
     result.warnings.push_back("automatic offset: no rung of the ladder gave one enclosing outer component");
   if (result.outer_components > 1)

@@ -5,6 +5,7 @@
 
 #include <atomic>
 #include <memory>
+#include <string>
 #include <string_view>
 
 #include "proxy_expect.h"
@@ -128,6 +129,54 @@ TEST(BuildProxy, AutomaticPicksTheTightestSingleShell) {
   ASSERT_GE(r.ladder_tried.size(), 2u);  // the tight rungs were tried and refused
   double diag = bounding_box(soup).diagonal();
   EXPECT_NEAR(r.offset, r.ladder_tried.back() * diag, 1e-12);
+}
+
+// The face budget: the estimate made right after marching cubes is close to
+// what remeshing makes, an explicit offset over the budget is refused with a
+// clear invalid_input error, and automatic moves on to a looser rung.
+TEST(BuildProxy, FaceBudgetEstimateIsCloseToTheRemeshedCount) {
+  Soup soup = shapes::to_soup(shapes::sphere_with(1.0, 2000), 1e-3, 1);
+  for (double fraction : {0.01, 0.03}) {
+    ProxyResult r = build_proxy(soup, relative(fraction));
+    expect_valid_proxy(r, soup, 1);
+    ASSERT_GT(r.estimated_triangles, 0);
+    const double ratio = static_cast<double>(r.triangles) / r.estimated_triangles;
+    EXPECT_GT(ratio, 0.7) << fraction;
+    EXPECT_LT(ratio, 1.8) << fraction;
+  }
+}
+
+TEST(BuildProxy, AnExplicitOffsetOverTheFaceBudgetIsRefused) {
+  Soup soup = shapes::to_soup(shapes::sphere_with(1.0, 2000), 1e-3, 1);
+  ProxyOptions o = relative(0.01);
+  o.max_triangles = 2000;  // the 1 % proxy of a unit sphere is ~10x that
+  try {
+    build_proxy(soup, o);
+    FAIL() << "not refused";
+  } catch (const Error& e) {
+    EXPECT_EQ(e.code(), ErrorCode::invalid_input);
+    EXPECT_NE(std::string_view(e.what()).find("budget of 2000"), std::string_view::npos) << e.what();
+  }
+  o.max_triangles = 0;  // no budget: built
+  EXPECT_GT(build_proxy(soup, o).triangles, 2000u);
+}
+
+TEST(BuildProxy, AutomaticSkipsRungsOverTheFaceBudget) {
+  Soup soup = shapes::to_soup(shapes::sphere_with(1.0, 2000), 1e-3, 1);
+  ProxyOptions o;
+  o.offset_mode = OffsetMode::automatic;
+  o.ladder = {0.01, 0.03, 0.08};
+  ProxyResult tight = build_proxy(soup, o);
+  EXPECT_NEAR(tight.offset_fraction, 0.01, 1e-12);
+  // A budget between the 3 % and 1 % proxies' sizes: the 1 % rung is skipped.
+  o.max_triangles = static_cast<size_t>(0.5 * static_cast<double>(tight.triangles));
+  ProxyResult r = build_proxy(soup, o);
+  expect_valid_proxy(r, soup, 1);
+  EXPECT_NEAR(r.offset_fraction, 0.03, 1e-12);
+  EXPECT_LE(r.estimated_triangles, static_cast<double>(o.max_triangles));
+  bool warned = false;
+  for (const std::string& w : r.warnings) warned |= w.find("over the budget") != std::string::npos;
+  EXPECT_TRUE(warned);
 }
 
 TEST(BuildProxy, RawLevelSetWithoutRemeshOrSmoothingIsValid) {

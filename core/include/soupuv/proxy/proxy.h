@@ -63,6 +63,14 @@ struct ProxyOptions {
   bool remesh = true;
   double target_edge_length = 0;
   int remesh_iterations = 3;
+  // Face budget of the remeshed proxy, estimated right after marching cubes
+  // (the level set's area tiled at the target edge length). Over it, the
+  // automatic ladder moves to its next rung and an explicit offset is refused
+  // with an invalid_input error. The atlas's cost grows faster than the
+  // proxy's size (a user's 0.5 % offset on a box, 280k faces, ran for over
+  // 15 minutes); the default ladder's proxies are 2.4k-8k triangles on the
+  // corpus (docs/tuning.md, "The proxy's face budget"). 0 = none.
+  size_t max_triangles = 50000;
 
   // Taubin lambda|mu smoothing (no shrinkage). 0 = off.
   int smoothing_iterations = 10;
@@ -98,6 +106,7 @@ struct ProxyResult {
   size_t vertices = 0;
   size_t raw_triangles = 0;      // straight out of marching cubes / tetrahedra
   size_t collapsed_triangles = 0;  // after our short-edge collapse, before CGAL remeshing
+  double estimated_triangles = 0;  // the face budget's estimate of `triangles`, from the level set's area
   size_t surface_cells = 0;      // leaf cells of the narrow band
   size_t pruned_cells = 0;       // band cells dropped as cavity, all levels
   size_t distance_evaluations = 0;
