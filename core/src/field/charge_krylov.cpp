@@ -101,6 +101,7 @@ void solve_krylov(const SourceGeometry& src, const ChargeOptions& o, Progress& p
     GmresOptions go;
     go.restart = 60;  // a restart forgets the slow modes; 60 vectors of n doubles are cheap next to the near matrix
     go.stall_window = 20;  // a third of a cycle (docs/tuning.md, "GMRES stalls inside a cycle")
+    go.reach_window = 4;   // docs/tuning.md, "A solve that cannot reach its target in its budget"
     if (split && outer == 0) {
       // The cheap far field is only ~5e-5 accurate (p = 4): iterate to about
       // that, and let the full mat-vec say what is left.
@@ -140,6 +141,13 @@ void solve_krylov(const SourceGeometry& src, const ChargeOptions& o, Progress& p
     ++r.full_matvecs;
     ++total;
     for (size_t t = 0; t < n; ++t) res[t] = 1.0 - ax[t];
+    if (d.out_of_reach) {
+      r.warnings.push_back("krylov: GMRES stopped after " + std::to_string(total) +
+                           " mat-vecs: at the rate of its last " + std::to_string(go.reach_window) +
+                           " iterations it would not reach its target within its budget of " +
+                           std::to_string(max_it) + " (--charge-iterations)");
+      break;
+    }
     if (d.stalled) {
       // A further outer step restarts the same stalled iteration.
       r.warnings.push_back("krylov: GMRES stalled (its residual fell by less than " +

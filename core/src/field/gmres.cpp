@@ -53,6 +53,10 @@ GmresResult gmres(const LinearMap& A, const LinearMap& Minv, const std::vector<d
   }
   std::vector<double> res = b, w, z, ax;
   bool stop = false;
+  // The budget test's goal, in the estimate's unit (relative to ||b||): the
+  // max norm can only be met once the RMS is below it.
+  const double goal =
+      std::max(o.rtol, o.max_norm_target > 0 ? o.max_norm_target * std::sqrt(static_cast<double>(n)) / bnorm : 0.0);
   while (out.iterations < o.max_iterations && !stop) {
     const double beta = std::sqrt(dotv(res, res));
     out.estimate = beta / bnorm;
@@ -108,6 +112,14 @@ GmresResult gmres(const LinearMap& A, const LinearMap& Minv, const std::vector<d
         out.stalled = true;
         break;
       }
+      if (o.reach_window > 0 && k >= o.reach_window && goal > 0 && out.estimate > goal) {
+        const double rate = out.estimate / cycle_estimate[k - o.reach_window];  // per window
+        const int left = o.max_iterations - out.iterations;
+        if (!(rate < 1) || o.reach_window * std::log(goal / out.estimate) / std::log(rate) > left) {
+          out.out_of_reach = true;
+          break;
+        }
+      }
       std::vector<double> next(n);
       for (size_t t = 0; t < n; ++t) next[t] = w[t] / hnext;
       V.push_back(std::move(next));
@@ -124,7 +136,8 @@ GmresResult gmres(const LinearMap& A, const LinearMap& Minv, const std::vector<d
       for (size_t t = 0; t < n; ++t) u[t] += y[i] * V[i][t];
     Minv(u, z);
     for (size_t t = 0; t < n; ++t) out.x[t] += z[t];
-    if (stop || out.stalled || out.estimate <= o.rtol || out.iterations >= o.max_iterations) break;
+    if (stop || out.stalled || out.out_of_reach || out.estimate <= o.rtol || out.iterations >= o.max_iterations)
+      break;
     if (o.max_norm_target > 0 && out.max_norm >= 0 && out.max_norm <= o.max_norm_target) break;
     if (k == o.restart && out.estimate > o.stall_ratio * (beta / bnorm)) {
       out.stalled = true;

@@ -43,6 +43,16 @@ struct GmresOptions {
   // vectors for nothing (bracket-exact's second cycle was flat from its
   // first vector). 0: only whole cycles are tested.
   int stall_window = 0;
+  // The budget test: after at least reach_window iterations of a cycle, a
+  // solve whose residual estimate, falling at the rate of its last
+  // reach_window iterations, would still be above its goal when
+  // max_iterations run out stops there (out_of_reach) instead of spending the
+  // rest of its budget. The goal is the larger of rtol and the RMS level at
+  // which max_norm_target could be met. A solve on its way down keeps going;
+  // one on a plateau (bracket's and bracket-exact's coplanar slivers: from
+  // their 2nd to 30th mat-vec the estimate fell 2x) stops within a window.
+  // 0: off.
+  int reach_window = 0;
   // Called after every iteration with the relative residual estimate; return
   // false to stop (time limit, cancel).
   std::function<bool(double)> on_iteration;
@@ -54,6 +64,7 @@ struct GmresResult {
   double estimate = 1;             // last relative residual estimate
   double max_norm = -1;            // last max-norm residual formed (-1: never formed)
   bool stalled = false;            // stopped because a restart cycle stalled (stall_ratio, stall_window)
+  bool out_of_reach = false;       // stopped by the budget test (reach_window)
 };
 
 GmresResult gmres(const LinearMap& A, const LinearMap& Minv, const std::vector<double>& b, const GmresOptions& o);

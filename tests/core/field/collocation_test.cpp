@@ -119,6 +119,45 @@ TEST(Gmres, StopsInsideACycleThatStalls) {
   EXPECT_LE(steady.estimate, o.rtol);
 }
 
+// The budget test stops a solve that cannot reach its goal within its
+// budget at its recent rate, and only such a solve: a flat one stops after
+// one window; a steady one whose rate reaches the goal in its budget runs to
+// convergence; the same steady solve given too small a budget stops early
+// rather than spend it.
+TEST(Gmres, StopsWhenItsRateCannotReachTheGoalInItsBudget) {
+  const int n = 50;
+  const LinearMap shift = cyclic_shift(n), identity = identity_map();
+  std::vector<double> b(n, 0.0);
+  b[0] = 1;
+  GmresOptions o;
+  o.rtol = 1e-8;
+  o.restart = 40;
+  o.max_iterations = 30;
+  o.reach_window = 4;
+  const GmresResult flat = gmres(shift, identity, b, o);
+  EXPECT_TRUE(flat.out_of_reach);
+  EXPECT_EQ(flat.iterations, o.reach_window);
+
+  LinearMap spread = [&](const std::vector<double>& v, std::vector<double>& out) {
+    out.resize(n);
+    for (int i = 0; i < n; ++i) out[i] = (1.0 + 9.0 * i / (n - 1)) * v[i];
+  };
+  std::vector<double> ones(n, 1.0);
+  o.max_iterations = 60;
+  const GmresResult steady = gmres(spread, identity, ones, o);
+  EXPECT_FALSE(steady.out_of_reach);
+  EXPECT_LE(steady.estimate, o.rtol);
+  o.reach_window = 0;
+  const int needed = gmres(spread, identity, ones, o).iterations;
+  EXPECT_EQ(steady.iterations, needed);  // the test cost nothing where it could reach
+
+  o.reach_window = 4;
+  o.max_iterations = needed / 3;
+  const GmresResult short_budget = gmres(spread, identity, ones, o);
+  EXPECT_TRUE(short_budget.out_of_reach);
+  EXPECT_LT(short_budget.iterations, o.max_iterations);
+}
+
 TEST(Gmres, StopsOnTheMaxNormOfTheTrueResidual) {
   // The max-norm residual GMRES forms from the Arnoldi relation (no
   // mat-vec) must be the true one: after the stop, max |b - A x| by a dense

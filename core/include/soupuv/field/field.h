@@ -98,7 +98,10 @@ struct ChargeOptions {
 // bracket-exact 83: coplanar and intersecting slivers) give the same maps
 // stopped at 16 or 31 mat-vecs as at 68 or 83, 1.2-1.4 s sooner
 // (docs/tuning.md, "The charge's effort budget and lines that stop at the
-// proxy, session 35").
+// proxy, session 35"). Within it, GMRES stops as soon as its recent rate
+// cannot reach the target in what is left of the budget (GmresOptions::
+// reach_window): bracket and bracket-exact stop after 8 and 6 (docs/tuning.md,
+// "A solve that cannot reach its target in its budget, session 37").
 inline constexpr int kKrylovIterationBudget = 30;
 
 struct ChargeResult {
