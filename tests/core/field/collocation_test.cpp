@@ -65,6 +65,14 @@ LinearMap cyclic_shift(int n) {
 LinearMap identity_map() {
   return [](const std::vector<double>& v, std::vector<double>& out) { out = v; };
 }
+// A diagonal system with eigenvalues spread evenly over [1, largest]:
+// GMRES converges slowly but steadily on it.
+LinearMap spread_diagonal(int n, double largest) {
+  return [n, largest](const std::vector<double>& v, std::vector<double>& out) {
+    out.resize(n);
+    for (int i = 0; i < n; ++i) out[i] = (1.0 + (largest - 1.0) * i / (n - 1)) * v[i];
+  };
+}
 
 // GMRES(m) on the cyclic shift makes no progress until m reaches n (the
 // Krylov space of e1 holds e1..e_m, none of which reduces the residual):
@@ -107,10 +115,7 @@ TEST(Gmres, StopsInsideACycleThatStalls) {
   // A diagonal system with eigenvalues spread over [1, 100]: slow but
   // steady, each iteration gains a little; the window must not mistake it
   // for a stall.
-  LinearMap spread = [&](const std::vector<double>& v, std::vector<double>& out) {
-    out.resize(n);
-    for (int i = 0; i < n; ++i) out[i] = (1.0 + 99.0 * i / (n - 1)) * v[i];
-  };
+  const LinearMap spread = spread_diagonal(n, 100.0);
   std::vector<double> ones(n, 1.0);
   o.restart = 60;
   o.stall_window = 20;
@@ -138,10 +143,7 @@ TEST(Gmres, StopsWhenItsRateCannotReachTheGoalInItsBudget) {
   EXPECT_TRUE(flat.out_of_reach);
   EXPECT_EQ(flat.iterations, o.reach_window);
 
-  LinearMap spread = [&](const std::vector<double>& v, std::vector<double>& out) {
-    out.resize(n);
-    for (int i = 0; i < n; ++i) out[i] = (1.0 + 9.0 * i / (n - 1)) * v[i];
-  };
+  const LinearMap spread = spread_diagonal(n, 10.0);
   std::vector<double> ones(n, 1.0);
   o.max_iterations = 60;
   const GmresResult steady = gmres(spread, identity, ones, o);
