@@ -24,6 +24,13 @@ atlas::AtlasOptions map_atlas_defaults() {
   // without the bitmap packer's turns and scale search, which were most of
   // the atlas's time (docs/tuning.md, "The proxy atlas's packing").
   o.pack_angles = 0;
+  // Its layout only gives the atlas's scale (uv_per_length) and keeps the
+  // charts apart, so it is packed at 512 texels with 1 texel of padding (the
+  // same gap as 4 at 2048): the packing grid is 16x smaller, the pack 0.5-1.3
+  // s -> 0.02-0.13 s, maps within +-0.001 continuity (docs/tuning.md, "The
+  // proxy atlas packed at 512 texels, session 37").
+  o.texture_size = 512;
+  o.padding_px = 1;
   // Tried and not taken (session 6): docs/tuning.md, "Not taken".
   return o;
 }
