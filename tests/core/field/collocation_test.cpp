@@ -65,6 +65,19 @@ LinearMap cyclic_shift(int n) {
 LinearMap identity_map() {
   return [](const std::vector<double>& v, std::vector<double>& out) { out = v; };
 }
+// e1: the right-hand side on which GMRES makes no progress on the shift.
+std::vector<double> first_unit_vector(int n) {
+  std::vector<double> b(n, 0.0);
+  b[0] = 1;
+  return b;
+}
+// GMRES asked for 1e-8 with restarts of `restart` vectors.
+GmresOptions tight_options(int restart) {
+  GmresOptions o;
+  o.rtol = 1e-8;
+  o.restart = restart;
+  return o;
+}
 // A diagonal system with eigenvalues spread evenly over [1, largest]:
 // GMRES converges slowly but steadily on it.
 LinearMap spread_diagonal(int n, double largest) {
@@ -81,11 +94,8 @@ LinearMap spread_diagonal(int n, double largest) {
 TEST(Gmres, StopsWhenARestartCycleStalls) {
   const int n = 50;
   const LinearMap shift = cyclic_shift(n), identity = identity_map();
-  std::vector<double> b(n, 0.0);
-  b[0] = 1;
-  GmresOptions o;
-  o.rtol = 1e-8;
-  o.restart = 10;
+  const std::vector<double> b = first_unit_vector(n);
+  GmresOptions o = tight_options(10);
   o.max_iterations = 200;
   const GmresResult stalled = gmres(shift, identity, b, o);
   EXPECT_TRUE(stalled.stalled);
@@ -102,11 +112,8 @@ TEST(Gmres, StopsWhenARestartCycleStalls) {
 TEST(Gmres, StopsInsideACycleThatStalls) {
   const int n = 50;
   const LinearMap shift = cyclic_shift(n), identity = identity_map();
-  std::vector<double> b(n, 0.0);
-  b[0] = 1;
-  GmresOptions o;
-  o.rtol = 1e-8;
-  o.restart = 40;
+  const std::vector<double> b = first_unit_vector(n);
+  GmresOptions o = tight_options(40);
   o.stall_window = 10;
   const GmresResult stalled = gmres(shift, identity, b, o);
   EXPECT_TRUE(stalled.stalled);
@@ -132,11 +139,8 @@ TEST(Gmres, StopsInsideACycleThatStalls) {
 TEST(Gmres, StopsWhenItsRateCannotReachTheGoalInItsBudget) {
   const int n = 50;
   const LinearMap shift = cyclic_shift(n), identity = identity_map();
-  std::vector<double> b(n, 0.0);
-  b[0] = 1;
-  GmresOptions o;
-  o.rtol = 1e-8;
-  o.restart = 40;
+  const std::vector<double> b = first_unit_vector(n);
+  GmresOptions o = tight_options(40);
   o.max_iterations = 30;
   o.reach_window = 4;
   const GmresResult flat = gmres(shift, identity, b, o);
