@@ -83,7 +83,7 @@ struct Extraction {
   // Triangles the remeshed proxy would have (the level set's area tiled by
   // equilateral triangles of the target edge; the raw count without one).
   double estimated_triangles = 0;
-  bool over_budget = false;  // then nothing after marching cubes was done
+  bool over_budget = false;  // then the extraction stopped there (mesh empty)
   double seconds_grid = 0, seconds_extract = 0, seconds_decimate = 0;
 };
 
@@ -282,7 +282,7 @@ ProxyResult build_proxy(const Soup& soup, const ProxyOptions& options, Progress&
   }
 
   std::optional<ProxyResult> best;
-  std::vector<double> over_budget;  // automatic rungs skipped for the face budget (fractions)
+  int rungs_over_budget = 0;  // automatic rungs skipped for the face budget
   for (size_t rung = 0; rung < offsets.size(); ++rung) {
     const double offset = offsets[rung];
     const bool last = rung + 1 == offsets.size();
@@ -307,7 +307,7 @@ ProxyResult build_proxy(const Soup& soup, const ProxyOptions& options, Progress&
     Extraction ex = extract(soup_bvh, box, offset, r.resolution, options.marching_cubes, options.prune_cavities,
                             options.remesh ? target : 0.0, options.max_triangles, progress);
     if (ex.over_budget) {
-      over_budget.push_back(r.offset_fraction);
+      ++rungs_over_budget;
       // Automatic: a looser rung has less surface to tile; explicit: say so.
       if (options.offset_mode == OffsetMode::automatic && !last) continue;
       throw Error(ErrorCode::invalid_input,
@@ -377,8 +377,8 @@ ProxyResult build_proxy(const Soup& soup, const ProxyOptions& options, Progress&
   }
 
   ProxyResult result = std::move(*best);
-  if (!over_budget.empty())
-    result.warnings.push_back("automatic offset: " + std::to_string(over_budget.size()) +
+  if (rungs_over_budget > 0)
+    result.warnings.push_back("automatic offset: " + std::to_string(rungs_over_budget) +
                               " tighter rung(s) skipped, their proxy over the budget of " +
                               std::to_string(options.max_triangles) + " triangles");
   if (options.offset_mode == OffsetMode::automatic && !(result.outer_components == 1 && acceptable(result)))
