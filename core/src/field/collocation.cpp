@@ -10,6 +10,7 @@
 #include "soupuv/field/direct.h"
 #include "soupuv/field/quadrature.h"
 #include "soupuv/field/triangle_integrals.h"
+#include "near_row.h"
 #include "tracer_closed_form_batch.h"
 
 namespace soupuv::field {
@@ -29,23 +30,11 @@ Eigen::PartialPivLU<Eigen::MatrixXd> factor_regularised(Eigen::MatrixXd block) {
 }
 
 namespace {
-// inv[t] = 1 / |x - p_t|: the bulk of the near matrix (pairs beyond the
-// closed-form radius use the plain quadrature rule). A flat loop the compiler
-// vectorises (the field module builds with -fno-math-errno for this), with
-// an AVX2 clone picked at load time where the CPU has it: ~40 % of a solve's
-// set-up was spent here one sqrt at a time.
-__attribute__((target_clones("avx2", "default")))
-void inverse_distances(const double* px, const double* py, const double* pz, size_t np, Vec3 x, double* inv) {
-  for (size_t t = 0; t < np; ++t) {
-    const double dx = x.x - px[t], dy = x.y - py[t], dz = x.z - pz[t];
-    inv[t] = 1.0 / std::sqrt(dx * dx + dy * dy + dz * dz);
-  }
-}
-
 // sum_k w[k] / |x - p_k| over m points: the middle band's degree-6 rule
-// (sources.h) on one triangle's precomputed points, vectorised like the
-// above (its scalar twin built the points and took one sqrt at a time: as
-// much of the set-up as the closed form).
+// (sources.h) on one triangle's precomputed points, a loop the compiler
+// vectorises (the field module builds with -fno-math-errno for this; its
+// scalar twin built the points and took one sqrt at a time: as much of the
+// set-up as the closed form).
 __attribute__((target_clones("avx2", "default")))
 double weighted_inverse_sum(const double* px, const double* py, const double* pz, const double* w, int m, Vec3 x) {
   double s = 0;
@@ -112,45 +101,52 @@ CollocationOperator::CollocationOperator(const SourceGeometry& sources, const Fm
   const int m = src_.points_per_triangle;
 #pragma omp parallel num_threads(threads_)
   {
-    std::vector<double> px, py, pz, inv, closed_value;
+    detail::NearColumns nc;
+    std::vector<uint8_t> near;
+    std::vector<double> closed_value;
     std::vector<uint32_t> closed_at;                     // positions k in the row
     std::vector<const tracer::TriangleFrame*> closed_frames;
 #pragma omp for schedule(dynamic, 4)
     for (long leaf = 0; leaf < static_cast<long>(rows.size()); ++leaf) {
       if (rows[leaf].empty()) continue;
-      // The leaf's source quadrature points, gathered once for all its rows.
+      // The leaf's columns, gathered once for all its rows (near_row.h).
       const auto& cols = leaf_cols_[leaf];
-      const size_t np = cols.size() * m;
-      px.resize(np); py.resize(np); pz.resize(np); inv.resize(np);
-      for (size_t k = 0; k < cols.size(); ++k)
+      const size_t count = cols.size();
+      nc.count = count;
+      nc.cx.resize(count), nc.cy.resize(count), nc.cz.resize(count), nc.near_r2.resize(count);
+      nc.px.resize(count * m), nc.py.resize(count * m), nc.pz.resize(count * m);
+      near.resize(count);
+      for (size_t k = 0; k < count; ++k) {
+        const uint32_t j = cols[k];
+        nc.cx[k] = src_.centroid[j].x, nc.cy[k] = src_.centroid[j].y, nc.cz[k] = src_.centroid[j].z;
+        const double r = src_.near_factor * src_.radius[j];  // as SourceGeometry::is_near
+        nc.near_r2[k] = r * r;
         for (int q = 0; q < m; ++q) {
-          const Vec3 p = src_.qpoints[static_cast<size_t>(cols[k]) * m + q];
-          px[k * m + q] = p.x; py[k * m + q] = p.y; pz[k * m + q] = p.z;
+          const Vec3 p = src_.qpoints[static_cast<size_t>(j) * m + q];
+          nc.px[q * count + k] = p.x, nc.py[q * count + k] = p.y, nc.pz[q * count + k] = p.z;
         }
+      }
       for (uint32_t i : rows[leaf]) {
         const Vec3 x = src_.centroid[i];
-        inverse_distances(px.data(), py.data(), pz.data(), np, x, inv.data());
         float* val = &near_val_[near_start_[i]];
+        detail::plain_near_row(nc, m, src_.qweights.data(), x, val, near.data());
         closed_at.clear();
         closed_frames.clear();
-        for (size_t k = 0; k < cols.size(); ++k) {
+        for (size_t k = 0; k < count; ++k) {
+          if (!near[k]) continue;
+          // Closed form or the degree-6 band: unit_potential's own rule
+          // (the closed form below, batched; a zero-area or degenerate
+          // triangle has no potential, as in near_potential_field).
           const uint32_t j = cols[k];
           double v = 0;
-          if (src_.is_near(j, x)) {
-            // Closed form or the degree-6 band: unit_potential's own rule
-            // (the closed form below, batched; a zero-area or degenerate
-            // triangle has no potential, as in near_potential_field).
-            if (src_.is_closed_form(j, x)) {
-              if (src_.area[j] > 0 && !frames[j].degenerate) {
-                closed_at.push_back(uint32_t(k));
-                closed_frames.push_back(&frames[j]);
-              }
-            } else if (src_.area[j] > 0) {
-              const size_t o = size_t(j) * mb;
-              v = weighted_inverse_sum(&bx[o], &by[o], &bz[o], band_rule.weights.data(), mb, x);
+          if (src_.is_closed_form(j, x)) {
+            if (src_.area[j] > 0 && !frames[j].degenerate) {
+              closed_at.push_back(uint32_t(k));
+              closed_frames.push_back(&frames[j]);
             }
-          } else {
-            for (int q = 0; q < m; ++q) v += src_.qweights[q] * inv[k * m + q];
+          } else if (src_.area[j] > 0) {
+            const size_t o = size_t(j) * mb;
+            v = weighted_inverse_sum(&bx[o], &by[o], &bz[o], band_rule.weights.data(), mb, x);
           }
           val[k] = static_cast<float>(v);
         }
