@@ -187,7 +187,7 @@ PieceMesh piece_mesh(const Soup& soup, double uv_per_length, const std::vector<u
 bool flattenable(const atlas::ChartMesh& c) { return c.boundary_loops >= 1 && c.euler + c.boundary_loops == 2; }
 
 Outcome flatten(const PieceMesh& m, const std::vector<uint32_t>& tris, double cell, double max_stretch,
-                int solve_iterations, Piece& out) {
+                int solve_iterations, Piece& out, double* stretch_floor) {
   const atlas::ChartMesh& c = m.chart;
   if (!flattenable(c)) return Outcome::topology;
   std::vector<Vec2> uv = atlas::lscm(c);
@@ -206,6 +206,7 @@ Outcome flatten(const PieceMesh& m, const std::vector<uint32_t>& tris, double ce
   transfer::detail::SlimOptions so;
   so.max_iterations = solve_iterations;
   bool hopeless = false;
+  double floor = 1;             // the stretch heading, when hopeless
   std::vector<double> stretch;  // after iterations kProbeIterations - 2, ...
   so.stop_after = [&](int iterations, const std::vector<Vec2>& now) {
     if (iterations >= solve_iterations || iterations < kProbeIterations - 2) return false;
@@ -213,9 +214,10 @@ Outcome flatten(const PieceMesh& m, const std::vector<uint32_t>& tris, double ce
     if (iterations < kProbeIterations) return false;
     const size_t n = stretch.size();
     const double now_stretch = stretch[n - 1];
-    if (iterations == kProbeIterations && now_stretch > kHopelessStretch * max_stretch) return hopeless = true;
     const double rate = std::max({0.0, stretch[n - 2] - stretch[n - 1], stretch[n - 3] - stretch[n - 2]});
-    hopeless = now_stretch - rate * (solve_iterations - iterations) > max_stretch;
+    floor = std::max(1.0, now_stretch - rate * (solve_iterations - iterations));
+    if (iterations == kProbeIterations && now_stretch > kHopelessStretch * max_stretch) return hopeless = true;
+    hopeless = floor > max_stretch;
     return hopeless;
   };
   if (!transfer::detail::slim_relax(m.triangles, m.rest, fixed, uv, so).started) {
@@ -225,7 +227,10 @@ Outcome flatten(const PieceMesh& m, const std::vector<uint32_t>& tris, double ce
     if (uv.empty() || !transfer::detail::slim_relax(m.triangles, m.rest, fixed, uv, so).started)
       return Outcome::flip;
   }
-  if (hopeless) return Outcome::stretch;
+  if (hopeless) {
+    if (stretch_floor) *stretch_floor = floor;
+    return Outcome::stretch;
+  }
   // The stretch against each soup triangle's own shape (its rest
   // triangle): the piece's vertices are means of joined noisy corners, and
   // a sliver's mean triangle can differ from the soup's far more than the
@@ -233,7 +238,10 @@ Outcome flatten(const PieceMesh& m, const std::vector<uint32_t>& tris, double ce
   const std::vector<std::array<Vec2, 3>> corners = corners_of(m, uv);
   double area = 0;
   for (const auto& p : corners) area += 0.5 * std::abs(cross(p[1] - p[0], p[2] - p[0]));
-  if (rest_stretch_l2(m.rest, corners) > max_stretch) return Outcome::stretch;
+  if (const double l2 = rest_stretch_l2(m.rest, corners); l2 > max_stretch) {
+    if (stretch_floor) *stretch_floor = l2;
+    return Outcome::stretch;
+  }
   // The lap test is a share of the piece's samples, so a large piece is
   // sampled no finer than kMaxLapSamples over its area: at that count the
   // share's sampling error is far below kLapShare, while the texel-rate

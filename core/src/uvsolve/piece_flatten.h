@@ -63,8 +63,11 @@ PieceMesh piece_mesh(const Soup& soup, double uv_per_length, const std::vector<u
 // Genus 0 with at least one boundary loop: LSCM can flatten it.
 bool flattenable(const atlas::ChartMesh& chart);
 
+// On a `stretch` refusal, *stretch_floor (when given) receives the least
+// L2 stretch the piece was heading for: the stretch where SLIM stopped,
+// less its best recent rate for every iteration left (at least 1).
 Outcome flatten(const PieceMesh& mesh, const std::vector<uint32_t>& tris, double cell, double max_stretch,
-                int solve_iterations, Piece& out);
+                int solve_iterations, Piece& out, double* stretch_floor = nullptr);
 
 // Sander's L2 stretch of triangles' UV corners against their soup
 // triangles' own shapes (rest[k] and corners[k]; invalid rest triangles are

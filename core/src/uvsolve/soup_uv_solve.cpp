@@ -144,7 +144,12 @@ SoupUvResult solve_soup_uvs(const Soup& soup, const geometry::Weld& weld,
     const detail::UnionMergeFigures uf2 = detail::merge_by_reflattening(
         soup, uv_per_length, pairs, cell, options.reembed_max_stretch,
         options.solve_iterations, options.merge_attempts_per_island, options.threads, layout);
-    report("union_merge", {{"attempts", uf2.attempts}, {"joined", uf2.joined}, {"repeated", uf2.repeated}}, t_um);
+    report("union_merge",
+           {{"attempts", uf2.attempts},
+            {"joined", uf2.joined},
+            {"repeated", uf2.repeated},
+            {"forecast_refused", uf2.forecast_refused}},
+           t_um);
   }
 
   // Seams the transfer or the split cut where a flat map can close them

@@ -90,6 +90,8 @@ UnionMergeFigures merge_by_reflattening(const Soup& soup, double uv_per_length,
     bool kept = false;
     bool refused_before = false;  // the same two islands, unchanged, were refused
     Piece piece;
+    Outcome outcome = Outcome::parts;
+    double stretch_floor = 1;  // on a stretch refusal (piece_flatten.h)
   };
   // Refusals by the two islands and their versions (joins so far): a seam
   // between islands already refused as they are now gets the same answer
@@ -100,6 +102,35 @@ UnionMergeFigures merge_by_reflattening(const Soup& soup, double uv_per_length,
   auto refusal_key = [&](uint32_t i, uint32_t j) {
     if (i > j) std::swap(i, j);
     return std::array<uint32_t, 4>{i, j, version[i], version[j]};
+  };
+  // Stretch refusals (the two islands as they were, their union's area and
+  // the stretch its flattening was heading for), listed by each island's
+  // current root. A union that holds a refused one is forecast to stay
+  // above the budget when the refused part at its floor and the added
+  // area at stretch 1 (no map of a triangle does better) average above it
+  // (area-weighted, as the L2 stretch): then it is answered from the
+  // refusal, like an unchanged pair. The retries of a large union after
+  // its larger island took in a few small ones were the costliest attempts
+  // on the CAD soups (docs/tuning.md, session 38).
+  struct StretchRefusal {
+    uint32_t i, j;
+    double area, floor;
+  };
+  std::vector<StretchRefusal> stretch_refusals;
+  std::vector<std::vector<uint32_t>> refusals_of(L.island_count);
+  std::vector<double> area(L.island_count, 0);
+  for (uint32_t x = 0; x < L.island_count; ++x)
+    for (uint32_t t : members[x]) area[x] += triangle_area(soup, t);
+  auto heading_over = [&](uint32_t i, uint32_t j) {
+    const double now = area[i] + area[j];
+    for (const uint32_t x : {i, j})
+      for (uint32_t k : refusals_of[x]) {
+        const StretchRefusal& r = stretch_refusals[k];
+        const uint32_t ri = find(r.i), rj = find(r.j);
+        if (!((ri == i && rj == j) || (ri == j && rj == i)) || !(now > 0)) continue;
+        if ((r.area * r.floor * r.floor + (now - r.area)) / now > max_stretch * max_stretch) return true;
+      }
+    return false;
   };
   std::vector<uint8_t> busy(L.island_count, 0);
   std::vector<uint32_t> busy_list;
@@ -126,8 +157,11 @@ UnionMergeFigures merge_by_reflattening(const Soup& soup, double uv_per_length,
       flattened += cost;
       ++f.attempts;
       if (members[i].size() < members[j].size()) std::swap(i, j);
-      batch.push_back({i, j, {}, false, refused.count(refusal_key(i, j)) > 0, {}});
-      f.repeated += batch.back().refused_before;
+      const bool unchanged = refused.count(refusal_key(i, j)) > 0;
+      const bool forecast = !unchanged && heading_over(i, j);
+      batch.push_back({i, j, {}, false, unchanged || forecast, {}});
+      f.repeated += unchanged;
+      f.forecast_refused += forecast;
       block(i), block(j);
     }
     later.insert(later.end(), pending.begin() + k, pending.end());
@@ -160,13 +194,19 @@ UnionMergeFigures merge_by_reflattening(const Soup& soup, double uv_per_length,
       a.tris = members[a.i];
       a.tris.insert(a.tris.end(), members[a.j].begin(), members[a.j].end());
       const PieceMesh m = piece_mesh(soup, uv_per_length, a.tris, L, &join);
-      a.kept = m.components == 1 && flatten(m, a.tris, cell, max_stretch, solve_iterations, a.piece) == Outcome::kept;
+      if (m.components == 1) a.outcome = flatten(m, a.tris, cell, max_stretch, solve_iterations, a.piece, &a.stretch_floor);
+      a.kept = a.outcome == Outcome::kept;
       for (uint32_t v : touched) join[v] = v;
     }
     for (Attempt& a : batch) {
       if (!a.kept) {
         ++attempts[a.i], ++attempts[a.j];  // only refusals count: a join may be followed by more
         refused.insert(refusal_key(a.i, a.j));
+        if (!a.refused_before && a.outcome == Outcome::stretch) {
+          const uint32_t k = uint32_t(stretch_refusals.size());
+          stretch_refusals.push_back({a.i, a.j, area[a.i] + area[a.j], a.stretch_floor});
+          refusals_of[a.i].push_back(k), refusals_of[a.j].push_back(k);
+        }
         continue;
       }
       ++version[a.i];
@@ -178,6 +218,9 @@ UnionMergeFigures merge_by_reflattening(const Soup& soup, double uv_per_length,
         L.island[a.tris[k2]] = a.i;
       }
       root[a.j] = a.i;
+      area[a.i] += area[a.j];
+      refusals_of[a.i].insert(refusals_of[a.i].end(), refusals_of[a.j].begin(), refusals_of[a.j].end());
+      refusals_of[a.j] = {};
       members[a.i] = std::move(a.tris);
       members[a.j].clear();
       attempts[a.i] = std::max(attempts[a.i], attempts[a.j]);

@@ -20,7 +20,9 @@
 //         triangle); attempts on disjoint islands run on `threads`
 //         threads. An attempt on two islands refused before, neither
 //         changed since, is answered from that refusal (it counts as
-//         tried, so the result is the same).
+//         tried, so the result is the same); so is one whose union holds a
+//         union refused for its stretch and is forecast to stay above the
+//         budget (union_merge.cpp).
 #pragma once
 
 #include <cstddef>
@@ -35,6 +37,7 @@ struct UnionMergeFigures {
   size_t attempts = 0;
   size_t joined = 0;
   size_t repeated = 0;  // attempts on two islands refused before as they are: not flattened again
+  size_t forecast_refused = 0;  // attempts holding a union refused for stretch, forecast to stay above the budget
 };
 
 UnionMergeFigures merge_by_reflattening(const Soup& soup, double uv_per_length,
