@@ -11,7 +11,8 @@
 //         corner order), so callers' candidate lists are deterministic.
 //         Built with_next, it also stores each corner's next corner in its
 //         triangle (k + 1 mod 3) and f may take its position as a third
-//         argument: the edge weld tests it for every corner near a query, and
+//         argument (only then: a grid built without it has no such
+//         positions to give): the edge weld tests it for every corner near a query, and
 //         reading it through the soup was a cache miss each (a 124k scan's
 //         edge weld: 3.6 s of its 4.1 in that pass).
 // Cost  : O(corners log corners) to build; a query costs its cells' corners
@@ -23,6 +24,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <cstdlib>
 #include <type_traits>
 #include <vector>
 
@@ -77,6 +79,8 @@ class CornerGrid {
   // `reach` of p, cell by cell (x, then y, then z), each in corner order.
   template <class Visit>
   void for_each_near(const Vec3& p, Visit&& visit) const {
+    if constexpr (std::is_invocable_v<Visit, uint32_t, const Vec3&, const Vec3&>)
+      if (next_.size() != entries_.size()) std::abort();  // built without with_next: a caller's bug
     // A hair over the reach: a cell bound's rounding never drops a corner.
     const double reach2 = reach_ * reach_ * (1 + 1e-9);
     const int64_t x0 = coord(p.x - reach_, lo_.x), x1 = coord(p.x + reach_, lo_.x);
