@@ -91,6 +91,8 @@ void add_stats(nlohmann::json& j, const field::TraceStats& s) {
   add("reached", double(s.reached));
   add("grown_steps", double(s.grown_steps));
   add("grown_steps_redone", double(s.grown_steps_redone));
+  add("expansions", double(s.expansions));
+  add("m2l_operations", double(s.m2l_operations));
 }
 
 // Lines for the corners in `seeds` replace those of `base` (same corner).
