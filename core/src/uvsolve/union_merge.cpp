@@ -42,7 +42,8 @@ uint32_t root_of(const std::vector<uint32_t>& root, uint32_t x) {
 UnionMergeFigures merge_by_reflattening(const Soup& soup, double uv_per_length,
                                         const std::vector<geometry::AdjacentPair>& pairs, double cell,
                                         double max_stretch, int solve_iterations, size_t attempts_per_island,
-                                        int threads, UvLayout& L) {
+                                        int threads, UvLayout& L,
+                                        const std::function<void(double share)>& on_round) {
   UnionMergeFigures f;
   std::vector<std::vector<uint32_t>> members = island_triangles(L);
   const size_t n = L.corner_vertex.size();
@@ -137,9 +138,11 @@ UnionMergeFigures merge_by_reflattening(const Soup& soup, double uv_per_length,
   auto block = [&](uint32_t x) {
     if (!busy[x]) busy[x] = 1, busy_list.push_back(x);
   };
+  const double seam_count = double(seams.size());
   std::vector<std::pair<uint64_t, uint32_t>> pending = std::move(seams), later;
   std::vector<Attempt> batch;
   while (!pending.empty()) {
+    if (on_round) on_round(1.0 - double(pending.size()) / seam_count);
     batch.clear();
     later.clear();
     size_t k = 0;

@@ -23,9 +23,13 @@
 //         tried, so the result is the same); so is one whose union holds a
 //         union refused for its stretch and is forecast to stay above the
 //         budget (union_merge.cpp).
+// Progress: `on_round` (when set) is called between rounds, outside the
+//         threads, with the share of the seams dealt with so far; it may
+//         throw (a canceled job) and nothing is left half-applied.
 #pragma once
 
 #include <cstddef>
+#include <functional>
 #include <vector>
 
 #include "soupuv/geometry/weld.h"
@@ -43,6 +47,7 @@ struct UnionMergeFigures {
 UnionMergeFigures merge_by_reflattening(const Soup& soup, double uv_per_length,
                                         const std::vector<geometry::AdjacentPair>& pairs, double cell,
                                         double max_stretch, int solve_iterations, size_t attempts_per_island,
-                                        int threads, UvLayout& layout);
+                                        int threads, UvLayout& layout,
+                                        const std::function<void(double share)>& on_round = {});
 
 }  // namespace soupuv::uvsolve::detail

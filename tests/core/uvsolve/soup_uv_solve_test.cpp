@@ -12,6 +12,10 @@
 
 #include "soupuv/quality/uv_overlap.h"
 #include "soupuv/geometry/weld.h"
+#include "soupuv/progress.h"
+#include "soupuv/errors.h"
+#include "uvsolve/union_merge.h"
+#include "uvsolve/uv_mesh.h"
 
 namespace soupuv {
 namespace {
@@ -201,11 +205,10 @@ TEST(SoupUvSolve, BandProjectedFlatIsFlattenedFromItsShapeWithFewCuts) {
   EXPECT_GE(kept, s.pairs.size() - 4 * high) << kept << " of " << s.pairs.size() << " pairs kept";
 }
 
-TEST(SoupUvSolve, ScatteredPiecesOfACurvedPatchAreJoinedAgain) {
-  // A 12 x 12 patch of a sphere (about 70 degrees across) whose map is cut
-  // into blocks of 2 x 2 cells, each flat at its own place: a transfer
-  // that is discontinuous everywhere. The patch flattens as one piece, so
-  // the solve must join the blocks back together.
+// A 12 x 12 patch of a sphere (about 70 degrees across) whose map is cut
+// into blocks of 2 x 2 cells, each flat at its own place, one cell apart
+// in UV: a transfer that is discontinuous everywhere.
+Case scattered_patch() {
   Case c;
   const int n = 12;
   const double radius = 10;
@@ -215,15 +218,78 @@ TEST(SoupUvSolve, ScatteredPiecesOfACurvedPatchAreJoinedAgain) {
   };
   for (int j = 0; j < n; ++j)
     for (int i = 0; i < n; ++i) {
-      const double du = 3.0 * (i / 2), dv = 3.0 * (j / 2);  // blocks one cell apart in UV
+      const double du = 3.0 * (i / 2), dv = 3.0 * (j / 2);
       add_grid(c, 1, [&](double u, double v) { return sphere(i + u, j + v); },
                [&](double u, double v) { return Vec2{0.01 * (i + u + du), 0.01 * (j + v + dv)}; });
     }
+  return c;
+}
+
+TEST(SoupUvSolve, ScatteredPiecesOfACurvedPatchAreJoinedAgain) {
+  // The patch flattens as one piece, so the solve must join the blocks
+  // back together.
+  const Case c = scattered_patch();
   const Solved s = solve(c, 0.01);
   expect_sound(c, s.uv);
   size_t kept = 0;
   for (const auto& p : s.pairs) kept += continuous(s.uv, p);
   EXPECT_GE(double(kept) / double(s.pairs.size()), 0.9) << kept << " of " << s.pairs.size() << " pairs kept";
+}
+
+TEST(SoupUvSolve, ProgressMovesForwardAndACancelStopsTheSolve) {
+  const Case c = scattered_patch();
+  const geometry::Weld weld = geometry::weld_corners(c.soup, 1e-9);
+  const std::vector<int> chart(3 * c.soup.triangles.size(), 0);
+  uvsolve::SoupUvOptions o;
+  o.threads = 2;
+  // What reaches the callback (Progress throttles all but a stage's first
+  // and last report) only grows, from 0 to 1.
+  std::vector<double> seen;
+  Progress p([&](std::string_view stage, double f) {
+    if (stage == "uv_solve") seen.push_back(f);
+  });
+  uvsolve::solve_soup_uvs(c.soup, weld, c.uv, chart, 0.01, 1.0 / 1024, o, p);
+  ASSERT_GE(seen.size(), 2u);
+  EXPECT_EQ(seen.front(), 0.0);
+  EXPECT_EQ(seen.back(), 1.0);
+  for (size_t k = 1; k < seen.size(); ++k) EXPECT_LE(seen[k - 1], seen[k]) << "report " << k;
+  // Canceled at its first report, the solve stops at the next with
+  // Error{canceled} (every report checks, throttled or not).
+  Progress q([&](std::string_view, double) { q.cancel(); });
+  try {
+    uvsolve::solve_soup_uvs(c.soup, weld, c.uv, chart, 0.01, 1.0 / 1024, o, q);
+    FAIL() << "a canceled solve finished";
+  } catch (const Error& e) {
+    EXPECT_EQ(e.code(), ErrorCode::canceled);
+  }
+}
+
+TEST(SoupUvSolve, TheUnionMergeReportsBetweenItsRoundsAndStopsWhereAReportThrows) {
+  const Case c = scattered_patch();
+  const geometry::Weld weld = geometry::weld_corners(c.soup, 1e-9);
+  const std::vector<int> chart(3 * c.soup.triangles.size(), 0);
+  const auto pairs = geometry::edge_adjacency(weld, c.soup.triangles.size());
+  auto layout = [&] { return uvsolve::detail::build_uv_mesh(c.soup, weld, c.uv, chart, 1.0 / 1024, 0.01); };
+  std::vector<double> shares;
+  uvsolve::detail::UvLayout L = layout();
+  const auto f = uvsolve::detail::merge_by_reflattening(c.soup, 0.01, pairs, 1.0 / 4096, 1.25, 10, 4, 2, L,
+                                                        [&](double share) { shares.push_back(share); });
+  ASSERT_GT(f.joined, 0u);
+  ASSERT_GE(shares.size(), 2u) << "the 36 blocks are joined in one round";
+  EXPECT_EQ(shares.front(), 0.0);
+  for (size_t k = 0; k < shares.size(); ++k) {
+    EXPECT_LT(shares[k], 1.0);
+    if (k > 0) EXPECT_LE(shares[k - 1], shares[k]);
+  }
+  // A report that throws (a canceled job) ends the merge there.
+  uvsolve::detail::UvLayout M = layout();
+  int rounds = 0;
+  EXPECT_THROW(uvsolve::detail::merge_by_reflattening(c.soup, 0.01, pairs, 1.0 / 4096, 1.25, 10, 4, 2, M,
+                                                      [&](double) {
+                                                        if (++rounds == 2) throw Error(ErrorCode::canceled, "canceled");
+                                                      }),
+               Error);
+  EXPECT_EQ(rounds, 2);
 }
 
 TEST(SoupUvSolve, ManyIslandsArePackedWithoutOverlapAndUseTheSquare) {
