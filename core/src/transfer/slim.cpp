@@ -18,32 +18,36 @@ std::array<Vec2, 3> corners_of(const std::array<uint32_t, 3>& t, const std::vect
   return {uv[t[0]], uv[t[1]], uv[t[2]]};
 }
 
-// The local step's target for one triangle: M = W^T W and the rotation R
-// (row-major 2x2), from J = Rot(phi) diag(s1, s2) Rot(theta) in closed form.
-struct LocalTarget {
-  double m00, m01, m11;
-  double r00, r01, r10, r11;
-};
+}  // namespace
 
+// J = q Rot(a2) + r Ref(a1) with q e^{i a2} = e + i h and r e^{i a1} = f + i g
+// (e, f, g, h below), so J = Rot(phi) diag(q + r, q - r) Rot(theta) with
+// phi = (a1 + a2) / 2 and U V^T = Rot(a2). Everything the step needs comes
+// from cos a2, sin a2 and the double angle 2 phi by sums and products: no
+// angle is formed (the atan2s, sines and cosines took ~8 % of the SLIM
+// solves' time on the 124k scan, docs/tuning.md, session 39).
 LocalTarget local_target(const Jacobian& J) {
   const double e = 0.5 * (J.j00 + J.j11), f = 0.5 * (J.j00 - J.j11);
   const double g = 0.5 * (J.j10 + J.j01), h = 0.5 * (J.j10 - J.j01);
-  const double q = std::hypot(e, h), r = std::hypot(f, g);
+  const double q = std::sqrt(e * e + h * h), r = std::sqrt(f * f + g * g);
   const double s1 = q + r, s2 = std::max(q - r, 1e-12);  // det > 0: s2 > 0
-  const double a1 = std::atan2(g, f), a2 = std::atan2(h, e);
-  const double phi = 0.5 * (a2 + a1);  // U = Rot(phi); U V^T = Rot(a2)
   auto w2 = [](double s) { return (1 + s) * (1 + s * s) / (s * s * s); };
   const double w1 = w2(s1), w2v = w2(s2);
-  const double c = std::cos(phi), s = std::sin(phi);
-  // U diag(w1, w2) U^T with U's columns (c, s) and (-s, c).
+  // cos a2, sin a2 (q > r >= 0 when det > 0), then cos 2phi, sin 2phi; when
+  // r = 0, 2phi = a2 (w1 = w2 then, and any U will do).
+  const double ca = q > 0 ? e / q : 1, sa = q > 0 ? h / q : 0;
+  const double cos2 = r > 0 ? (f * ca - g * sa) / r : ca, sin2 = r > 0 ? (g * ca + f * sa) / r : sa;
+  // U diag(w1, w2) U^T with U = Rot(phi): cos^2 phi = (1 + cos 2phi) / 2, ...
+  const double cc = 0.5 * (1 + cos2), ss = 0.5 * (1 - cos2), cs = 0.5 * sin2;
   LocalTarget t;
-  t.m00 = w1 * c * c + w2v * s * s;
-  t.m01 = (w1 - w2v) * c * s;
-  t.m11 = w1 * s * s + w2v * c * c;
-  const double ca = std::cos(a2), sa = std::sin(a2);
+  t.m00 = w1 * cc + w2v * ss;
+  t.m01 = (w1 - w2v) * cs;
+  t.m11 = w1 * ss + w2v * cc;
   t.r00 = ca, t.r01 = -sa, t.r10 = sa, t.r11 = ca;
   return t;
 }
+
+namespace {
 
 // Largest t in (0, cap] keeping det(J + t dJ) > 0 (with a margin), for a
 // triangle positive at t = 0.

@@ -43,6 +43,16 @@ struct SlimOptions {
   std::function<bool(int iterations, const std::vector<Vec2>& uv)> stop_after;
 };
 
+// The local step's target for one triangle of Jacobian J (det J > 0):
+// M = W^T W = U diag(w(s1), w(s2)) U^T, w(s) = (1 + s)(1 + s^2) / s^3, and
+// the closest rotation R = U V^T (both row-major 2x2), for the singular
+// value decomposition J = U diag(s1, s2) V^T.
+struct LocalTarget {
+  double m00, m01, m11;
+  double r00, r01, r10, r11;
+};
+LocalTarget local_target(const Jacobian& J);
+
 struct SlimResult {
   double energy_before = 0, energy_after = 0;
   int iterations = 0;

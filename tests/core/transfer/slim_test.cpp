@@ -4,6 +4,8 @@
 
 #include <random>
 
+#include <Eigen/Dense>
+
 #include "transfer/slim.h"
 
 using namespace soupuv;
@@ -85,4 +87,35 @@ TEST(Slim, StopAfterEndsTheSolveAtTheIterationItSays) {
   EXPECT_GT(three.energy_after, all.energy_after);
   EXPECT_LT(three.energy_after, three.energy_before);
   EXPECT_NEAR(three.energy_after, mesh_energy(stopped.triangles, stopped.rest, stopped.uv), 1e-9 * three.energy_after);
+}
+
+TEST(Slim, LocalTargetIsTheSingularValueDecompositionsRotationAndWeights) {
+  // Against Eigen's SVD, on Jacobians of every kind with det > 0: near
+  // rotations, strong stretch, shear, near-degenerate, conformal (s1 = s2).
+  std::mt19937 rng(3);
+  std::uniform_real_distribution<double> entry(-3, 3);
+  auto w = [](double s) { return (1 + s) * (1 + s * s) / (s * s * s); };
+  std::vector<Jacobian> cases = {{1, 0, 0, 1}, {2, 0, 0, 2}, {0, -1, 1, 0}, {3, 0, 0, 0.01}, {1, 5, 0, 1},
+                                 {0.6, -0.8, 0.8, 0.6}};
+  while (cases.size() < 2000) {
+    const Jacobian J{entry(rng), entry(rng), entry(rng), entry(rng)};
+    if (J.det() > 1e-3) cases.push_back(J);
+  }
+  for (const Jacobian& J : cases) {
+    Eigen::Matrix2d A;
+    A << J.j00, J.j01, J.j10, J.j11;
+    const Eigen::JacobiSVD<Eigen::Matrix2d> svd(A, Eigen::ComputeFullU | Eigen::ComputeFullV);
+    const Eigen::Vector2d s = svd.singularValues();
+    const Eigen::Matrix2d R = svd.matrixU() * svd.matrixV().transpose();
+    const Eigen::Matrix2d M = svd.matrixU() * Eigen::Vector2d(w(s[0]), w(s[1])).asDiagonal() * svd.matrixU().transpose();
+    const LocalTarget t = local_target(J);
+    const double scale = M.cwiseAbs().maxCoeff();
+    EXPECT_NEAR(t.r00, R(0, 0), 1e-9);
+    EXPECT_NEAR(t.r01, R(0, 1), 1e-9);
+    EXPECT_NEAR(t.r10, R(1, 0), 1e-9);
+    EXPECT_NEAR(t.r11, R(1, 1), 1e-9);
+    EXPECT_NEAR(t.m00, M(0, 0), 1e-9 * scale) << J.j00 << " " << J.j01 << " " << J.j10 << " " << J.j11;
+    EXPECT_NEAR(t.m01, M(0, 1), 1e-9 * scale);
+    EXPECT_NEAR(t.m11, M(1, 1), 1e-9 * scale);
+  }
 }
