@@ -85,7 +85,10 @@ struct SoupUvOptions {
   size_t merge_attempts_per_island = 4;
   // A join that folds is relaxed (ARAP) when the joined island has at most
   // this many triangles (each relaxation is a sparse solve of its size).
-  size_t merge_relax_max_triangles = 20000;
+  // Over the corpus and the shared samples no relaxation of a larger join
+  // was kept (0 of ~350: it unfolds, then laps or folds elsewhere), while
+  // they were most of the seam merge's time (docs/tuning.md, session 39).
+  size_t merge_relax_max_triangles = 1024;
   // Overlap samples per texel side (2: half-texel spacing).
   double overlap_samples_per_texel = 2;
   // Islands the transfer folded or lapped are flattened again from their
