@@ -86,7 +86,7 @@ struct SoupUvOptions {
   // A join that folds is relaxed (ARAP) when the joined island has at most
   // this many triangles (each relaxation is a sparse solve of its size).
   // Over the corpus and the shared samples no relaxation of a larger join
-  // was kept (0 of ~350: it unfolds, then laps or folds elsewhere), while
+  // was kept (0 of ~190: it unfolds, then laps or folds elsewhere), while
   // they were most of the seam merge's time (docs/tuning.md, session 39).
   size_t merge_relax_max_triangles = 1024;
   // Overlap samples per texel side (2: half-texel spacing).
