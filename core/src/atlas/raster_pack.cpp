@@ -265,54 +265,69 @@ RasterPackResult raster_pack(std::vector<PackChart>& charts, int texture_size, d
   // one after which the greedy places the next kPilotLookahead large
   // charts lowest (the rows they use; ties to the greedy's own pick). The
   // picks go to `placed`; returns how many charts were placed so.
+  // The turns of a chart are tried on the threads at once, each on its own
+  // copy of the strip (the pilot was most of a many-island packing's time,
+  // on one thread: table 0.91 of 1.1 s); the pick is made after, in turn
+  // order, by the same rule, so the packing does not depend on the threads.
+  const int pilot_team = std::max(1, std::min(options.threads, options.angles));
   RowRuns prefix_occ(options.pilot_charts > 0 ? side : 0, options.pilot_charts > 0 ? 2 * side : 0);
-  RowRuns trial_occ = prefix_occ;
+  std::vector<RowRuns> trial_occ(options.pilot_charts > 0 ? pilot_team : 0, prefix_occ);
   auto pilot = [&](const std::vector<int>& order, double height_weight) {
     int count = 0;
     while (count < std::min<int>(options.pilot_charts, int(order.size())) &&
            area[order[count]] >= kPilotShare * total_area)
       ++count;
     if (count < 2) return 0;
+    const int angles = options.angles;
     auto mask_of = [&](int i, int turn) -> const RowMask& {
-      return masks[static_cast<size_t>(i) * options.angles + turn];
+      return masks[static_cast<size_t>(i) * angles + turn];
     };
-    // The large charts' masks grown by the padding, each made once.
-    std::vector<RowMask> grown(static_cast<size_t>(count) * options.angles);
-    std::vector<uint8_t> has_grown(grown.size(), 0);
-    auto grown_of = [&](int j, int turn) -> const RowMask& {
-      const size_t g = static_cast<size_t>(j) * options.angles + turn;
-      if (!has_grown[g]) grown[g] = dilate(mask_of(order[j], turn), pad), has_grown[g] = 1;
-      return grown[g];
-    };
+    // The large charts' masks grown by the padding, every turn that can fit.
+    std::vector<RowMask> grown(static_cast<size_t>(count) * angles);
+#pragma omp parallel for schedule(dynamic, 1) num_threads(pilot_team)
+    for (int g = 0; g < count * angles; ++g)
+      if (!too_big[static_cast<size_t>(order[g / angles]) * angles + g % angles])
+        grown[g] = dilate(mask_of(order[g / angles], g % angles), pad);
+    auto grown_of = [&](int j, int turn) -> const RowMask& { return grown[static_cast<size_t>(j) * angles + turn]; };
+    std::vector<long long> rows_of(angles);
+    std::vector<Spot> spot_of(angles);
     prefix_occ.reset();  // the large charts decided so far
     for (int j = 0; j < count; ++j) {
       const int i = order[j];
       const Placed greedy = greedy_place(prefix_occ, i, height_weight);
       if (greedy.turn < 0) return j;
-      Placed pick = greedy;
-      long long pick_rows = LLONG_MAX;
-      for (int k = 0; k < options.angles; ++k) {
-        if (too_big[static_cast<size_t>(i) * options.angles + k]) continue;
+#pragma omp parallel for schedule(dynamic, 1) num_threads(pilot_team)
+      for (int k = 0; k < angles; ++k) {
+        rows_of[k] = -1;  // cannot fit
+        if (too_big[static_cast<size_t>(i) * angles + k]) continue;
         const RowMask& m = mask_of(i, k);
         const Spot s = k == greedy.turn ? greedy.at : first_fit(prefix_occ, m, row_needs(m), prefix_occ.height());
         if (s.x < 0) continue;
         long long rows = s.y + m.height;
         if (j + 1 < count) {
-          trial_occ.assign(prefix_occ);
-          occupy_grown(trial_occ, grown_of(j, k), s, pad);
+          RowRuns& trial = trial_occ[omp_get_thread_num()];
+          trial.assign(prefix_occ);
+          occupy_grown(trial, grown_of(j, k), s, pad);
           for (int q = j + 1; q < std::min(count, j + 1 + kPilotLookahead); ++q) {
-            const Placed p = greedy_place(trial_occ, order[q], height_weight);
+            const Placed p = greedy_place(trial, order[q], height_weight);
             if (p.turn < 0) {
               rows = LLONG_MAX;
               break;
             }
-            occupy_grown(trial_occ, grown_of(q, p.turn), p.at, pad);
+            occupy_grown(trial, grown_of(q, p.turn), p.at, pad);
             rows = std::max<long long>(rows, p.at.y + mask_of(order[q], p.turn).height);
           }
         }
-        if (rows < pick_rows || (rows == pick_rows && k == greedy.turn)) {
-          pick_rows = rows;
-          pick = {k, s};
+        rows_of[k] = rows;
+        spot_of[k] = s;
+      }
+      Placed pick = greedy;
+      long long pick_rows = LLONG_MAX;
+      for (int k = 0; k < angles; ++k) {
+        if (rows_of[k] < 0) continue;
+        if (rows_of[k] < pick_rows || (rows_of[k] == pick_rows && k == greedy.turn)) {
+          pick_rows = rows_of[k];
+          pick = {k, spot_of[k]};
         }
       }
       placed[i] = pick;
@@ -366,11 +381,11 @@ RasterPackResult raster_pack(std::vector<PackChart>& charts, int texture_size, d
       occupy(occ, m, placed[i].at, pad);
       used = std::max(used, placed[i].at.y + m.height);
     }
-    // The turns of one chart are searched by all threads at once (turn k by
-    // thread k mod threads), each keeping its own best; the best of those is
-    // the same pick as one thread's: the least score, ties to the lower turn
-    // index. Few charts stay on one thread (a region's barriers per chart
-    // would cost more than their short searches).
+    // The turns of one chart are searched by all threads at once (the turns
+    // that can fit dealt out in order), each thread keeping its own best;
+    // the best of those is the same pick as one thread's: the least score,
+    // ties to the lower turn index. Few charts stay on one thread (a
+    // region's barriers per chart would cost more than their short searches).
     const int team = n >= kParallelTurnsMin ? std::max(1, std::min(options.threads, angles)) : 1;
     std::vector<Placed> best_of(team);
     std::vector<double> score_of(team);
@@ -383,8 +398,12 @@ RasterPackResult raster_pack(std::vector<PackChart>& charts, int texture_size, d
       int k_best = -1;
       double best_score = INFINITY;
       Spot best_spot;
-      for (int k = me; k < angles; k += threads) {
+      // The turns that can fit are dealt out in turn: a small chart tries
+      // two of eight, which a split by turn index gave both to one thread.
+      int dealt = 0;
+      for (int k = 0; k < angles; ++k) {
         if (too_big[static_cast<size_t>(i) * angles + k]) continue;
+        if (dealt++ % threads != me) continue;
         const RowMask& m = masks[static_cast<size_t>(i) * angles + k];
         const double slack = best_score - height_weight * m.height;
         const int y_limit = std::isinf(best_score) ? occ.height() : static_cast<int>(std::ceil(slack)) - 1;
