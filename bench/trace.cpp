@@ -349,7 +349,7 @@ void run_table5(const Flags& f, const bench::Args& args) {
                  {"max_step_growth", o.max_step_growth}, {"grown_steps", st.grown_steps},
                  {"grown_steps_redone", st.grown_steps_redone},
                  {"cpu_per_evaluation_us", 1e6 * cpu_fmm / double(st.evaluations)},
-                 {"expansions", st.expansions}, {"m2l_operations", st.m2l_operations},
+                 {"expansions", st.expansions}, {"m2l_operations", st.m2l_operations}, {"m2l_terms", st.m2l_terms},
                  {"m2l_per_evaluation", double(st.m2l_operations) / double(st.evaluations)},
                  {"escaped", st.escaped}, {"step_limit", st.step_limit}, {"stalled", st.stalled},
                  {"trapped", st.trapped},

@@ -219,6 +219,7 @@ class BatchField {
   // Local expansions computed and M2L operations spent so far (0 for direct).
   size_t expansions() const { return tracer_ ? tracer_->expansions() : 0; }
   size_t m2l_operations() const { return tracer_ ? tracer_->m2l_operations() : 0; }
+  size_t m2l_terms() const { return tracer_ ? tracer_->m2l_terms() : 0; }
 
  private:
   void evaluate_direct(const std::vector<Vec3>& x, std::vector<Vec3>& E, std::vector<double>* nearest) const {
@@ -370,6 +371,7 @@ TraceStats FieldLineTracer::stats() const {
   st.steps = m.steps_total;
   st.expansions = m.field->expansions();
   st.m2l_operations = m.field->m2l_operations();
+  st.m2l_terms = m.field->m2l_terms();
   st.grown_steps = m.grown_steps;
   st.grown_steps_redone = m.grown_redone;
   st.escaped = m.escaped;

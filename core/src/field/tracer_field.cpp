@@ -105,13 +105,25 @@ void to_float(Vec3 v, float* f) {
 constexpr double kWholeFactor = 2.25;
 constexpr double kSplitFactor = 1.55;
 
-TracerField::TracerField(const Fmm& fmm, const std::vector<double>& charges, int threads)
+int TracerField::m2l_order_for(double rho, double theta, int p) {
+  const int lowest = std::min(2, p);
+  if (!(rho < theta)) return p;
+  if (!(rho > 0)) return lowest;
+  const int q = static_cast<int>(std::ceil((p + 1) * std::log(theta) / std::log(rho) - 1e-9));
+  return std::clamp(q, lowest, p);
+}
+
+TracerField::TracerField(const Fmm& fmm, const std::vector<double>& charges, int threads, M2lOrder m2l_order)
     : fmm_(fmm),
       m_(fmm.src_.points_per_triangle),
       threads_(threads > 0 ? threads : omp_get_max_threads()),
       ncoef_(fmm.ncoef_),
       field_expansion_(std::make_unique<tracer::FieldExpansion>(fmm.basis_)),
-      m2l_(std::make_unique<tracer::BatchM2L>(fmm.basis_)) {
+      m2l_order_(m2l_order) {
+  const int p = fmm.basis_.order();
+  m2l_by_order_.resize(p + 1);
+  for (int q = m2l_order == M2lOrder::full ? p : std::min(2, p); q <= p; ++q)
+    m2l_by_order_[q] = std::make_unique<tracer::BatchM2L>(q == p ? fmm.basis_ : TaylorBasis(q));
   const SourceGeometry& src = fmm.src_;
   const size_t n = fmm.order_.size();
   pq_.resize(n * m_);
@@ -274,23 +286,43 @@ void TracerField::prepare(const std::vector<int>& leaves) {
   // cells at once, in one parallel pass. Per level, the small levels of a
   // round ran on one thread while the other waited (a 2-thread profile at
   // 12,800 had 5.2 % of the samples in M2L on the master, 3.5 % on the other).
-  size_t ops = 0;
+  size_t ops = 0, terms = 0;
   const long nt = static_cast<long>(todo.size());
+  const int p = fmm_.basis_.order();
+  const double theta = fmm_.opt_.theta;
   // A round of a few cells is not worth a fork/join (see trace.cpp).
-#pragma omp parallel for num_threads(threads_) schedule(dynamic, 1) reduction(+ : ops) if (nt >= 32)
+#pragma omp parallel for num_threads(threads_) schedule(dynamic, 1) reduction(+ : ops, terms) if (nt >= 32)
   for (long i = 0; i < nt; ++i) {
     const int c = todo[i];
     const auto& cell = fmm_.tcells_[c];
     double* L = local(slot_[c]);
     std::fill_n(L, ncoef_, 0.0);
     const auto& sources = fmm_.m2l_[c];
+    // The sources grouped by their order (a counting sort), one batched call per order.
+    const double r_target = cell.half * std::sqrt(3.0);
+    std::vector<int> order_of(sources.size());
+    std::vector<int> first(p + 2, 0);
+    for (size_t k = 0; k < sources.size(); ++k) {
+      const auto& s = fmm_.scells_[sources[k]];
+      const double rho = (r_target + s.radius) / norm(cell.center - s.mc);
+      order_of[k] = m2l_order_ == M2lOrder::full ? p : m2l_order_for(rho, theta, p);
+      ++first[order_of[k] + 1];
+    }
+    for (int q = 0; q <= p; ++q) first[q + 1] += first[q];
     std::vector<const double*> moments(sources.size());
     std::vector<Vec3> offsets(sources.size());
+    std::vector<int> next(first.begin(), first.end() - 1);
     for (size_t k = 0; k < sources.size(); ++k) {
-      moments[k] = &M_[static_cast<size_t>(sources[k]) * ncoef_];
-      offsets[k] = cell.center - fmm_.scells_[sources[k]].mc;
+      const int at = next[order_of[k]]++;
+      moments[at] = &M_[static_cast<size_t>(sources[k]) * ncoef_];
+      offsets[at] = cell.center - fmm_.scells_[sources[k]].mc;
     }
-    m2l_->apply_float(moments.data(), offsets.data(), static_cast<int>(sources.size()), L);
+    for (int q = 0; q <= p; ++q) {
+      const int count = first[q + 1] - first[q];
+      if (count == 0) continue;
+      m2l_by_order_[q]->apply_float(moments.data() + first[q], offsets.data() + first[q], count, L);
+      terms += count * m2l_by_order_[q]->terms();
+    }
     ops += sources.size();
     if (cell.child_first < 0) build_near_plan(c);
   }
@@ -312,6 +344,7 @@ void TracerField::prepare(const std::vector<int>& leaves) {
   }
   expansions_ += todo.size();
   m2l_ops_ += ops;
+  m2l_terms_ += terms;
 }
 
 void TracerField::build_near_plan(int leaf) {

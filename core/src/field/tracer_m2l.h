@@ -36,6 +36,9 @@ class BatchM2L {
   void apply_float(const double* const* M, const Vec3* R, int count, double* L) const;
 
   int size() const { return n_; }
+  // Multiply-adds of one operation's contraction: the pairs (a, b) with
+  // |a| + |b| <= p.
+  size_t terms() const { return power_.size(); }
 
   // The tables below as raw pointers, the form the SIMD kernels in the .cpp take.
   struct Tables;

@@ -93,6 +93,7 @@ void add_stats(nlohmann::json& j, const field::TraceStats& s) {
   add("grown_steps_redone", double(s.grown_steps_redone));
   add("expansions", double(s.expansions));
   add("m2l_operations", double(s.m2l_operations));
+  add("m2l_terms", double(s.m2l_terms));
 }
 
 // Lines for the corners in `seeds` replace those of `base` (same corner).

@@ -31,7 +31,8 @@ TEST(TracerFieldBands, PointsAtBandBoundariesAgreeWithFmmEvaluate) {
   region.add({10, 10, 10});
   Fmm fmm(src, fo, region);
   fmm.set_charges(charges.charges);
-  TracerField tf(fmm, charges.charges, 1);
+  // The same expansions as Fmm::evaluate (every pair at the full order).
+  TracerField tf(fmm, charges.charges, 1, TracerField::M2lOrder::full);
 
   // Points at each band radius of a triangle's centroid, exactly and moved by
   // 1e-9 to 2e-3 of it (the kernel's slack is 1e-4 in r2), outwards from the

@@ -3,6 +3,8 @@
 // on the surface to far away, evaluated one at a time and in leaf batches.
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <cstdio>
 #include <cmath>
 #include <limits>
 #include <random>
@@ -105,7 +107,8 @@ TEST(TracerField, AgreesWithFmmEvaluateAndBatchesAgreeWithSinglePoints) {
   fo.leaf_size = 8;
   Fmm fmm(k.src, fo, region_around(k, 10));
   fmm.set_charges(k.charges.charges);
-  TracerField tf(fmm, k.charges.charges, 2);
+  // Fmm::evaluate expands every pair at the full order.
+  TracerField tf(fmm, k.charges.charges, 2, TracerField::M2lOrder::full);
   // Group the points by leaf, as the tracer does.
   std::vector<int> leaf(k.points.size());
   for (size_t i = 0; i < k.points.size(); ++i) leaf[i] = tf.locate(k.points[i], i > 0 ? leaf[i - 1] : -1);
@@ -134,4 +137,59 @@ TEST(TracerField, AgreesWithFmmEvaluateAndBatchesAgreeWithSinglePoints) {
   EXPECT_LT(worst_batch, 1e-13);
   EXPECT_GT(tf.expansions(), 0u);
   EXPECT_LT(tf.expansions(), fmm.stats().target_cells);  // lazily: not every cell
+}
+
+// Each M2L pair at the order its separation needs: the field against direct
+// summation as accurate as with every pair at the full order, for fewer
+// multiply-adds. Points one at a time, as in the test above.
+TEST(TracerField, PerPairOrdersKeepTheAccuracyForFewerTerms) {
+  const Case& k = torus_case();
+  FmmOptions fo;
+  fo.order = 7;
+  fo.theta = 0.45;
+  fo.leaf_size = 8;
+  Fmm fmm(k.src, fo, region_around(k, 10));
+  double worst[2] = {0, 0};
+  size_t terms[2] = {0, 0}, ops[2] = {0, 0};
+  const TracerField::M2lOrder orders[2] = {TracerField::M2lOrder::full, TracerField::M2lOrder::per_pair};
+  for (int v = 0; v < 2; ++v) {
+    TracerField tf(fmm, k.charges.charges, 2, orders[v]);
+    for (size_t i = 0; i < k.points.size(); ++i) {
+      const int leaf = tf.locate(k.points[i]);
+      tf.prepare({leaf});
+      Vec3 E{0, 0, 0};
+      tf.field(leaf, &k.points[i], 1, &E, nullptr);
+      worst[v] = std::max(worst[v], norm(E - k.direct[i]) / norm(k.direct[i]));
+    }
+    terms[v] = tf.m2l_terms();
+    ops[v] = tf.m2l_operations();
+  }
+  std::printf("field vs direct, p=7 theta=0.45: full order %.2e (%zu terms), per pair %.2e (%zu terms)\n", worst[0],
+              terms[0], worst[1], terms[1]);
+  // No less accurate than every pair at the full order (10 %: the errors of
+  // different truncations do not cancel alike at the worst point).
+  EXPECT_LT(worst[1], 1.1 * worst[0]);
+  EXPECT_EQ(ops[0], ops[1]);  // the same pairs
+  EXPECT_LT(terms[1], terms[0]);
+}
+
+// The order rule: the full order at and beyond the acceptance limit, and
+// otherwise the lowest q (from 2) with rho^q <= theta^(p + 1).
+TEST(TracerField, PerPairOrderIsTheLowestThatKeepsTheWorstPairsBound) {
+  const double theta = 0.45;
+  for (int p : {1, 2, 5, 7, 10}) {
+    EXPECT_EQ(TracerField::m2l_order_for(theta, theta, p), p);
+    EXPECT_EQ(TracerField::m2l_order_for(0.9, theta, p), p);
+    EXPECT_EQ(TracerField::m2l_order_for(0.0, theta, p), std::min(2, p));
+    int last = 0;
+    for (double rho = 1e-3; rho < theta; rho += 1e-3) {
+      const int q = TracerField::m2l_order_for(rho, theta, p);
+      EXPECT_GE(q, last) << "not monotone at rho " << rho;
+      last = q;
+      EXPECT_LE(q, p);
+      if (q < p) EXPECT_LE(std::pow(rho, q), std::pow(theta, p + 1) * (1 + 1e-9)) << "rho " << rho << " q " << q;
+      if (q > std::min(2, p))
+        EXPECT_GT(std::pow(rho, q - 1), std::pow(theta, p + 1)) << "rho " << rho << " q " << q;
+    }
+  }
 }

@@ -303,7 +303,8 @@ struct TraceStats {
   size_t grown_steps = 0, grown_steps_redone = 0;
   // Target cells whose local expansion the tracer computed (only where
   // lines went) and the M2L operations that cost: at small n a visible share.
-  size_t expansions = 0, m2l_operations = 0;
+  // m2l_terms: their contractions' multiply-adds (TracerField::m2l_terms).
+  size_t expansions = 0, m2l_operations = 0, m2l_terms = 0;
 };
 
 FieldLines trace_field_lines(const ChargeResult& charges, const std::vector<TraceSeed>& seeds,

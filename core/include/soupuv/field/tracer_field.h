@@ -18,8 +18,10 @@
 //  - Local expansions are computed lazily, only for target cells a tracer
 //    visits (and their ancestors): the target tree over the whole stop region
 //    has many cells around the surface that no line ever enters, and M2L there
-//    was most of the cost of Fmm::set_charges. A cell's M2Ls run in one
-//    batched call, four sources per SIMD pass (tracer_m2l.h).
+//    was most of the cost of Fmm::set_charges. A cell's M2Ls run in batched
+//    calls, eight sources per SIMD pass (tracer_m2l.h), each source at the
+//    lowest order that keeps the pair's truncation error within that of the
+//    worst pair the Fmm's acceptance test admits (m2l_order_for).
 //  - The near field runs in single precision over float blocks of source
 //    leaves (tracer_kernels.h: 8 triangles per SIMD group, coordinates relative
 //    to the leaves' parent's centre, no padding between sibling leaves): the kernel adds the quadrature points of every
@@ -54,8 +56,14 @@ class BatchM2L;
 
 class TracerField {
  public:
+  // How a target cell's M2L sources are expanded: each at the order its
+  // separation needs (per_pair), or all at the Fmm's order (full: the same
+  // expansions as Fmm::evaluate, for comparisons).
+  enum class M2lOrder { per_pair, full };
+
   // charges: one per source triangle (input order). threads: 0 = OpenMP default.
-  TracerField(const Fmm& fmm, const std::vector<double>& charges, int threads = 0);
+  TracerField(const Fmm& fmm, const std::vector<double>& charges, int threads = 0,
+              M2lOrder m2l_order = M2lOrder::per_pair);
   ~TracerField();
 
   // Target leaf containing x, or -1 outside the target tree's root cube.
@@ -77,6 +85,24 @@ class TracerField {
   // Target cells whose local expansion was computed, and M2L operations spent.
   size_t expansions() const { return expansions_; }
   size_t m2l_operations() const { return m2l_ops_; }
+  // The M2Ls' multiply-adds in their contractions (sum over operations of
+  // the pairs of coefficients an operation of its order couples): what the
+  // per-pair order saves.
+  size_t m2l_terms() const { return m2l_terms_; }
+
+  // The order a pair of separation ratio rho = (r_target + r_source) /
+  // distance is expanded at: the lowest q with rho^q <= theta^(p + 1),
+  // within [min(2, p), p]. A Cartesian Taylor M2L truncated at total degree
+  // q expands 1/|R + z| (|z| <= r_target + r_source) to degree q, whose
+  // field error is of order rho^q / |R|^2 times the pair's charge; the
+  // acceptance test (rho < theta) lets the worst admitted pair have
+  // theta^p. Each lower-order pair so stays a factor theta below that
+  // worst pair: bounding it by theta^p itself (one order less) doubled the
+  // worst field error on a torus (tracer_field_trace_test.cpp), since the
+  // many pairs inside the bound then all err as much as the worst one.
+  // Pairs far inside pay less: at p = 7, theta = 0.45 a pair at rho = 0.3
+  // takes q = 6 (924 of the contraction's 1,716 terms).
+  static int m2l_order_for(double rho, double theta, int p);
 
  private:
   // Float blocks (tracer_kernels.h) hold the leaf children of one source
@@ -149,8 +175,11 @@ class TracerField {
   double* local(int slot) const { return &pages_[slot / kPageSlots][(slot % kPageSlots) * slot_doubles_]; }
   double* polynomials(int slot) const { return local(slot) + ncoef_; }
   std::unique_ptr<tracer::FieldExpansion> field_expansion_;
-  std::unique_ptr<tracer::BatchM2L> m2l_;  // all M2Ls of a target cell in one call
-  size_t expansions_ = 0, m2l_ops_ = 0;
+  // Per order q (index q; empty below the lowest), the batched M2L of
+  // expansions truncated at q: the first size_for(q) coefficients.
+  std::vector<std::unique_ptr<tracer::BatchM2L>> m2l_by_order_;
+  M2lOrder m2l_order_;
+  size_t expansions_ = 0, m2l_ops_ = 0, m2l_terms_ = 0;
 };
 
 }  // namespace soupuv::field
