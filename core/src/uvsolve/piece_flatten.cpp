@@ -231,6 +231,11 @@ Outcome flatten(const PieceMesh& m, const std::vector<uint32_t>& tris, double ce
     if (stretch_floor) *stretch_floor = floor;
     return Outcome::stretch;
   }
+  return judge_piece(m, tris, std::move(uv), cell, max_stretch, out, stretch_floor);
+}
+
+Outcome judge_piece(const PieceMesh& m, const std::vector<uint32_t>& tris, std::vector<Vec2> uv, double cell,
+                    double max_stretch, Piece& out, double* stretch_floor) {
   // The stretch against each soup triangle's own shape (its rest
   // triangle): the piece's vertices are means of joined noisy corners, and
   // a sliver's mean triangle can differ from the soup's far more than the

@@ -69,6 +69,13 @@ bool flattenable(const atlas::ChartMesh& chart);
 Outcome flatten(const PieceMesh& mesh, const std::vector<uint32_t>& tris, double cell, double max_stretch,
                 int solve_iterations, Piece& out, double* stretch_floor = nullptr);
 
+// The tests a flattened piece is kept on (no flip is the caller's): its L2
+// stretch against the soup within max_stretch (else `stretch`, the
+// stretch in *stretch_floor) and at most kLapShare of its samples covered
+// twice (else `overlap`, the piece in `out`); `kept` fills `out`.
+Outcome judge_piece(const PieceMesh& mesh, const std::vector<uint32_t>& tris, std::vector<Vec2> uv, double cell,
+                    double max_stretch, Piece& out, double* stretch_floor = nullptr);
+
 // Sander's L2 stretch of triangles' UV corners against their soup
 // triangles' own shapes (rest[k] and corners[k]; invalid rest triangles are
 // skipped), normalised as eval/uvmetrics.py normalises a map: the budget

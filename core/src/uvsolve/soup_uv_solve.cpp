@@ -158,7 +158,8 @@ SoupUvResult solve_soup_uvs(const Soup& soup, const geometry::Weld& weld,
            {{"attempts", uf2.attempts},
             {"joined", uf2.joined},
             {"repeated", uf2.repeated},
-            {"forecast_refused", uf2.forecast_refused}},
+            {"forecast_refused", uf2.forecast_refused},
+            {"joined_locally", uf2.joined_locally}},
            t_um);
   }
   progress.update("uv_solve", kAfterUnions);

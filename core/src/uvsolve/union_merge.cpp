@@ -8,6 +8,7 @@
 
 #include <omp.h>
 
+#include "uvsolve/local_join.h"
 #include "uvsolve/pairs_by_triangle.h"
 #include "uvsolve/piece_flatten.h"
 
@@ -27,6 +28,10 @@ constexpr double kFlattenCostKnee = 3000;
 size_t flatten_cost(size_t size) {
   return size_t(double(size) * std::max(1.0, std::sqrt(double(size) / kFlattenCostKnee)));
 }
+// An island at most this share of the other's size is first joined onto
+// the larger one's map as it stands (local_join.h); only when that fails
+// is the union flattened anew.
+constexpr size_t kLocalJoinRatio = 8;
 // Attempts flattened at once (a constant, so the result does not depend on
 // the thread count).
 constexpr size_t kBatch = 64;
@@ -93,6 +98,7 @@ UnionMergeFigures merge_by_reflattening(const Soup& soup, double uv_per_length,
     Piece piece;
     Outcome outcome = Outcome::parts;
     double stretch_floor = 1;  // on a stretch refusal (piece_flatten.h)
+    bool joined_locally = false;  // kept by local_join.h
   };
   // Refusals by the two islands and their versions (joins so far): a seam
   // between islands already refused as they are now gets the same answer
@@ -197,7 +203,12 @@ UnionMergeFigures merge_by_reflattening(const Soup& soup, double uv_per_length,
       a.tris = members[a.i];
       a.tris.insert(a.tris.end(), members[a.j].begin(), members[a.j].end());
       const PieceMesh m = piece_mesh(soup, uv_per_length, a.tris, L, &join);
-      if (m.components == 1) a.outcome = flatten(m, a.tris, cell, max_stretch, solve_iterations, a.piece, &a.stretch_floor);
+      if (m.components == 1) {
+        if (kLocalJoinRatio * members[a.j].size() <= members[a.i].size())
+          a.outcome = join_locally(m, a.tris, members[a.i].size(), L, cell, max_stretch, solve_iterations, a.piece);
+        if (a.outcome == Outcome::kept) a.joined_locally = true;
+        else a.outcome = flatten(m, a.tris, cell, max_stretch, solve_iterations, a.piece, &a.stretch_floor);
+      }
       a.kept = a.outcome == Outcome::kept;
       for (uint32_t v : touched) join[v] = v;
     }
@@ -214,6 +225,7 @@ UnionMergeFigures merge_by_reflattening(const Soup& soup, double uv_per_length,
       }
       ++version[a.i];
       ++f.joined;
+      f.joined_locally += a.joined_locally;
       const uint32_t base = uint32_t(L.uv.size());
       L.uv.insert(L.uv.end(), a.piece.uv.begin(), a.piece.uv.end());
       for (size_t k2 = 0; k2 < a.tris.size(); ++k2) {

@@ -7,7 +7,9 @@
 // Output: for each two islands sharing welded edges (the longest shared
 //         seam first, each island in at most attempts_per_island tries),
 //         the union with its seam closed (the shared corners one vertex) is
-//         flattened from its own shape (piece_flatten.h); when that is kept
+//         flattened from its own shape (piece_flatten.h); an island at most
+//         an eighth of the other's size is first joined onto the larger
+//         one's map as it stands (local_join.h). When that is kept
 //         (no flip, within the stretch budget, no lap) the two become one
 //         island with the new UVs.
 // Why   : the rigid join (seam_merge.h) can only close a seam where the two
@@ -42,6 +44,7 @@ struct UnionMergeFigures {
   size_t joined = 0;
   size_t repeated = 0;  // attempts on two islands refused before as they are: not flattened again
   size_t forecast_refused = 0;  // attempts holding a union refused for stretch, forecast to stay above the budget
+  size_t joined_locally = 0;    // joins made onto the larger island's map as it stood (local_join.h)
 };
 
 UnionMergeFigures merge_by_reflattening(const Soup& soup, double uv_per_length,
