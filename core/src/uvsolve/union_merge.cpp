@@ -98,7 +98,9 @@ UnionMergeFigures merge_by_reflattening(const Soup& soup, double uv_per_length,
     Piece piece;
     Outcome outcome = Outcome::parts;
     double stretch_floor = 1;  // on a stretch refusal (piece_flatten.h)
-    bool joined_locally = false;  // kept by local_join.h
+    bool local_first = false;     // joined onto i's map first (local_join.h)
+    bool joined_locally = false;  // kept so
+    bool flattened_whole = false;  // the union flattened anew
   };
   // Refusals by the two islands and their versions (joins so far): a seam
   // between islands already refused as they are now gets the same answer
@@ -160,15 +162,18 @@ UnionMergeFigures merge_by_reflattening(const Soup& soup, double uv_per_length,
         continue;
       }
       if (i == j || attempts[i] >= attempts_per_island || attempts[j] >= attempts_per_island) continue;
-      const size_t size = members[i].size() + members[j].size();
-      const size_t cost = flatten_cost(size);
+      if (members[i].size() < members[j].size()) std::swap(i, j);
+      // A join tried locally first costs about the smaller island's
+      // flattening; a whole flattening after it is charged when it is made.
+      const bool local_first = kLocalJoinRatio * members[j].size() <= members[i].size();
+      const size_t cost = flatten_cost(local_first ? members[j].size() : members[i].size() + members[j].size());
       if (flattened + cost > budget) continue;
       flattened += cost;
       ++f.attempts;
-      if (members[i].size() < members[j].size()) std::swap(i, j);
       const bool unchanged = refused.count(refusal_key(i, j)) > 0;
       const bool forecast = !unchanged && heading_over(i, j);
       batch.push_back({i, j, {}, false, unchanged || forecast, {}});
+      batch.back().local_first = local_first;
       f.repeated += unchanged;
       f.forecast_refused += forecast;
       block(i), block(j);
@@ -204,15 +209,20 @@ UnionMergeFigures merge_by_reflattening(const Soup& soup, double uv_per_length,
       a.tris.insert(a.tris.end(), members[a.j].begin(), members[a.j].end());
       const PieceMesh m = piece_mesh(soup, uv_per_length, a.tris, L, &join);
       if (m.components == 1) {
-        if (kLocalJoinRatio * members[a.j].size() <= members[a.i].size())
+        if (a.local_first)
           a.outcome = join_locally(m, a.tris, members[a.i].size(), L, cell, max_stretch, solve_iterations, a.piece);
-        if (a.outcome == Outcome::kept) a.joined_locally = true;
-        else a.outcome = flatten(m, a.tris, cell, max_stretch, solve_iterations, a.piece, &a.stretch_floor);
+        if (a.outcome == Outcome::kept) a.joined_locally = a.local_first;
+        else {
+          a.outcome = flatten(m, a.tris, cell, max_stretch, solve_iterations, a.piece, &a.stretch_floor);
+          a.flattened_whole = true;
+        }
       }
       a.kept = a.outcome == Outcome::kept;
       for (uint32_t v : touched) join[v] = v;
     }
     for (Attempt& a : batch) {
+      // A local try that failed was followed by the whole flattening.
+      if (a.local_first && a.flattened_whole) flattened += flatten_cost(a.tris.size());
       if (!a.kept) {
         ++attempts[a.i], ++attempts[a.j];  // only refusals count: a join may be followed by more
         refused.insert(refusal_key(a.i, a.j));

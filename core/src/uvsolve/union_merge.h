@@ -19,7 +19,9 @@
 // Cost  : per attempt one flattening of the union, all of them within a
 //         budget of 8 times the soup's triangles (a union above 3,000
 //         triangles counted larger, as its flattening costs more per
-//         triangle); attempts on disjoint islands run on `threads`
+//         triangle; a local join counts as the smaller island's
+//         flattening, and the union's flattening after a failed one is
+//         counted when it is made); attempts on disjoint islands run on `threads`
 //         threads. An attempt on two islands refused before, neither
 //         changed since, is answered from that refusal (it counts as
 //         tried, so the result is the same); so is one whose union holds a
