@@ -61,6 +61,15 @@ const Case& torus_case() {
   return c;
 }
 
+// The tests' FMM: leaves of 8 triangles, so the torus has many cells.
+FmmOptions small_leaves(int order, double theta) {
+  FmmOptions fo;
+  fo.order = order;
+  fo.theta = theta;
+  fo.leaf_size = 8;
+  return fo;
+}
+
 // The worst field error relative to direct summation over the case's
 // points, one point at a time; `near` (when given) counts the points that
 // have a near triangle.
@@ -90,11 +99,7 @@ Box3 region_around(const Case& k, double half) {
 
 TEST(TracerField, MatchesDirectSummationToTheFmmAccuracy) {
   const Case& k = torus_case();
-  FmmOptions fo;
-  fo.order = 8;
-  fo.theta = 0.4;
-  fo.leaf_size = 8;
-  Fmm fmm(k.src, fo, region_around(k, 10));
+  Fmm fmm(k.src, small_leaves(8, 0.4), region_around(k, 10));
   TracerField tf(fmm, k.charges.charges);
   size_t near = 0;
   const double worst = worst_error(k, tf, &near);
@@ -108,11 +113,7 @@ TEST(TracerField, MatchesDirectSummationToTheFmmAccuracy) {
 
 TEST(TracerField, AgreesWithFmmEvaluateAndBatchesAgreeWithSinglePoints) {
   const Case& k = torus_case();
-  FmmOptions fo;
-  fo.order = 6;
-  fo.theta = 0.5;
-  fo.leaf_size = 8;
-  Fmm fmm(k.src, fo, region_around(k, 10));
+  Fmm fmm(k.src, small_leaves(6, 0.5), region_around(k, 10));
   fmm.set_charges(k.charges.charges);
   // Fmm::evaluate expands every pair at the full order.
   TracerField tf(fmm, k.charges.charges, 2, TracerField::M2lOrder::full);
@@ -151,11 +152,7 @@ TEST(TracerField, AgreesWithFmmEvaluateAndBatchesAgreeWithSinglePoints) {
 // multiply-adds. Points one at a time, as in the test above.
 TEST(TracerField, PerPairOrdersKeepTheAccuracyForFewerTerms) {
   const Case& k = torus_case();
-  FmmOptions fo;
-  fo.order = 7;
-  fo.theta = 0.45;
-  fo.leaf_size = 8;
-  Fmm fmm(k.src, fo, region_around(k, 10));
+  Fmm fmm(k.src, small_leaves(7, 0.45), region_around(k, 10));
   double worst[2] = {0, 0};
   size_t terms[2] = {0, 0}, ops[2] = {0, 0};
   const TracerField::M2lOrder orders[2] = {TracerField::M2lOrder::full, TracerField::M2lOrder::per_pair};
