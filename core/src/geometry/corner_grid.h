@@ -6,8 +6,8 @@
 //         the reach visited 27 reach^3: a 124k scan's welds visited ~2,900
 //         corners per query for ~440 within the tolerance).
 // Output: for_each_near(p, f) calls f(corner id, position) for every corner
-//         of the cells within the reach of p: every corner within the reach,
-//         and some beyond it. A fixed order (cells x, then y, then z, each in
+//         of the cells within the reach of p (the grid's, or one given per
+//         query): every corner within the reach, and some beyond it. A fixed order (cells x, then y, then z, each in
 //         corner order), so callers' candidate lists are deterministic.
 //         Built with_next, it also stores each corner's next corner in its
 //         triangle (k + 1 mod 3) and f may take its position as a third
@@ -79,13 +79,19 @@ class CornerGrid {
   // `reach` of p, cell by cell (x, then y, then z), each in corner order.
   template <class Visit>
   void for_each_near(const Vec3& p, Visit&& visit) const {
+    for_each_near(p, reach_, visit);
+  }
+  // The same within a reach of this query's own (a caller that knows its
+  // partners lie closer than the grid's reach visits fewer cells).
+  template <class Visit>
+  void for_each_near(const Vec3& p, double reach, Visit&& visit) const {
     if constexpr (std::is_invocable_v<Visit, uint32_t, const Vec3&, const Vec3&>)
       if (next_.size() != entries_.size()) std::abort();  // built without with_next: a caller's bug
     // A hair over the reach: a cell bound's rounding never drops a corner.
-    const double reach2 = reach_ * reach_ * (1 + 1e-9);
-    const int64_t x0 = coord(p.x - reach_, lo_.x), x1 = coord(p.x + reach_, lo_.x);
-    const int64_t y0 = coord(p.y - reach_, lo_.y), y1 = coord(p.y + reach_, lo_.y);
-    const int64_t z0 = coord(p.z - reach_, lo_.z), z1 = coord(p.z + reach_, lo_.z);
+    const double reach2 = reach * reach * (1 + 1e-9);
+    const int64_t x0 = coord(p.x - reach, lo_.x), x1 = coord(p.x + reach, lo_.x);
+    const int64_t y0 = coord(p.y - reach, lo_.y), y1 = coord(p.y + reach, lo_.y);
+    const int64_t z0 = coord(p.z - reach, lo_.z), z1 = coord(p.z + reach, lo_.z);
     // Squared distance from p to cell i's slab along one axis; 0 for p's own
     // cell (whatever the rounding of its bounds: a reach of 0 finds copies).
     auto gap2 = [&](double v, double lo, int64_t i) {

@@ -16,8 +16,15 @@ using namespace soupuv::geometry;
 namespace {
 
 // The slow twin: the start's groups, then all corner pairs within the
-// tolerance, nearest first, each joined unless the two sets share a triangle.
-std::vector<uint32_t> slow_extend(const Soup& soup, const geometry::Weld& start, double tolerance) {
+// tolerance (and, with edge_fraction > 0, within that fraction of both
+// triangles' shortest edges), nearest first, each joined unless the two sets
+// share a triangle.
+std::vector<uint32_t> slow_extend(const Soup& soup, const geometry::Weld& start, double tolerance,
+                                  double edge_fraction = 0) {
+  auto shortest2 = [&](uint32_t t) {
+    const Vec3 a = soup.corner(t, 0), b = soup.corner(t, 1), c = soup.corner(t, 2);
+    return std::min({norm2(b - a), norm2(c - b), norm2(a - c)});
+  };
   const uint32_t corners = uint32_t(3 * soup.triangles.size());
   UnionFind uf(corners);
   for (uint32_t a = 0; a < corners; ++a)
@@ -28,6 +35,9 @@ std::vector<uint32_t> slow_extend(const Soup& soup, const geometry::Weld& start,
   for (uint32_t a = 0; a < corners; ++a)
     for (uint32_t b = a + 1; b < corners; ++b) {
       const double d2 = norm2(soup.corner(a / 3, a % 3) - soup.corner(b / 3, b % 3));
+      if (edge_fraction > 0 &&
+          d2 > edge_fraction * edge_fraction * std::min(shortest2(a / 3), shortest2(b / 3)))
+        continue;
       if (d2 <= tolerance * tolerance) pairs.push_back({d2, a, b});
     }
   std::stable_sort(pairs.begin(), pairs.end(), [](const Pair& x, const Pair& y) { return x.d2 < y.d2; });
@@ -74,6 +84,27 @@ TEST(ExtendWeld, MatchesItsSlowTwinOnANoisySphere) {
     }
   EXPECT_LT(w.vertex_count, start.vertex_count);
   EXPECT_LT(w.vertex_count, geometry::weld_corners(soup, tolerance).vertex_count + 1);
+}
+
+// A tolerance of several edges, bounded per pair by a fraction of the
+// triangles' shortest edges (as the seeds' extension is): the weld queries
+// each corner only within its own triangle's bound and must find the same
+// pairs.
+TEST(ExtendWeld, MatchesItsSlowTwinWhereTheEdgeFractionBinds) {
+  const Soup soup = shapes::to_soup(shapes::icosphere(1.0, 1), 5e-2, 9);  // 80 triangles
+  const double diag = bounding_box(soup).diagonal();
+  const geometry::Weld start = geometry::weld_by_edges(soup, 0.01 * diag);
+  geometry::Weld singletons;
+  singletons.corner_vertex.resize(3 * soup.triangles.size());
+  for (uint32_t c = 0; c < singletons.corner_vertex.size(); ++c) singletons.corner_vertex[c] = c;
+  singletons.vertex_count = static_cast<uint32_t>(singletons.corner_vertex.size());
+  const double tolerance = 0.5 * diag;  // far beyond every edge
+  for (const double fraction : {0.5, 1.0}) {
+    expect_same_partition(geometry::extend_weld(soup, start, tolerance, fraction),
+                          slow_extend(soup, start, tolerance, fraction));
+    expect_same_partition(geometry::weld_corners(soup, tolerance, fraction),
+                          slow_extend(soup, singletons, tolerance, fraction));
+  }
 }
 
 // Starting from nothing it is geometry::weld_corners.
