@@ -19,16 +19,30 @@
 using namespace soupuv;
 using namespace soupuv::field;
 
-TEST(CoarseCorrection, CoarseOperatorMatchesTheDenseMatrix) {
-  // A noisy soup: overlapping neighbours are where the near part matters.
-  Soup soup = shapes::to_soup(shapes::torus_with(1.0, 0.5, 3200), 1e-3, 1);
-  SourceGeometry src = make_sources(soup.positions, soup.triangles, 4);
-  const size_t n = src.size();
+namespace {
+
+// The sources of a noisy 3,200-triangle torus soup.
+SourceGeometry noisy_torus_sources(double noise, unsigned seed) {
+  const Soup soup = shapes::to_soup(shapes::torus_with(1.0, 0.5, 3200), noise, seed);
+  return make_sources(soup.positions, soup.triangles, 4);
+}
+
+// A small, one-thread FMM for the operator's far field.
+FmmOptions small_fmm() {
   FmmOptions fo;
   fo.order = 6;
   fo.leaf_size = 32;
   fo.threads = 1;
-  CollocationOperator A(src, fo);
+  return fo;
+}
+
+}  // namespace
+
+TEST(CoarseCorrection, CoarseOperatorMatchesTheDenseMatrix) {
+  // A noisy soup: overlapping neighbours are where the near part matters.
+  const SourceGeometry src = noisy_torus_sources(1e-3, 1);
+  const size_t n = src.size();
+  CollocationOperator A(src, small_fmm());
   const auto blocks = A.fmm().source_blocks(64);
   ASSERT_GT(blocks.size(), 20u);
   LeafBlockPreconditioner B(A, blocks, 1);
@@ -93,14 +107,9 @@ TEST(CoarseCorrection, CutsKrylovIterationsAtTheSameAccuracy) {
 TEST(LeafBlockPreconditioner, OverlapLimitBoundsTheRowsTheStrongestFirst) {
   // Noise of the edge length's order: many neighbours pass the coupling
   // ratio, so without a limit the blocks grow well past their own rows.
-  Soup soup = shapes::to_soup(shapes::torus_with(1.0, 0.5, 3200), 2e-2, 3);
-  SourceGeometry src = make_sources(soup.positions, soup.triangles, 4);
+  const SourceGeometry src = noisy_torus_sources(2e-2, 3);
   const size_t n = src.size();
-  FmmOptions fo;
-  fo.order = 6;
-  fo.leaf_size = 32;
-  fo.threads = 1;
-  CollocationOperator A(src, fo);
+  CollocationOperator A(src, small_fmm());
   const auto blocks = A.fmm().source_blocks(64);
   const double ratio = 0.2;
   LeafBlockPreconditioner unlimited(A, blocks, 1, ratio);
