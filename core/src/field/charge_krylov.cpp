@@ -51,7 +51,7 @@ void solve_krylov(const SourceGeometry& src, const ChargeOptions& o, Progress& p
   const bool split = cheap_order < o.fmm_order;
   const auto cheap = split ? CollocationOperator::Accuracy::cheap : CollocationOperator::Accuracy::full;
   const auto blocks = A.fmm().source_blocks(o.krylov_block_size);
-  LeafBlockPreconditioner B(A, blocks, threads, o.krylov_overlap_ratio, o.krylov_overlap_limit);
+  LeafBlockPreconditioner B(A, blocks, threads, o.krylov_overlap_ratio);
   std::unique_ptr<CoarseCorrection> C;
   if (o.krylov_coarse_correction && blocks.size() > 1) C = std::make_unique<CoarseCorrection>(A, src, blocks, B, threads);
   r.setup_seconds = elapsed();

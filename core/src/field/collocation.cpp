@@ -6,7 +6,6 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
-#include <cstdint>
 
 #include "soupuv/field/direct.h"
 #include "soupuv/field/quadrature.h"
@@ -223,7 +222,7 @@ Eigen::MatrixXd CollocationOperator::block(const std::vector<uint32_t>& idx, std
   return A;
 }
 
-void CollocationOperator::strong_couplings(uint32_t i, double ratio, std::vector<Coupling>& out) const {
+void CollocationOperator::strong_couplings(uint32_t i, double ratio, std::vector<uint32_t>& out) const {
   const auto& cols = leaf_cols_[leaf_[i]];
   const float* val = &near_val_[near_start_[i]];
   double self = 0;
@@ -231,22 +230,15 @@ void CollocationOperator::strong_couplings(uint32_t i, double ratio, std::vector
     if (cols[k] == i) self = val[k];
   if (!(self > 0)) return;
   for (size_t k = 0; k < cols.size(); ++k)
-    if (cols[k] != i && val[k] >= ratio * self) out.push_back({static_cast<float>(val[k] / self), cols[k]});
+    if (cols[k] != i && val[k] >= ratio * self) out.push_back(cols[k]);
 }
 
 LeafBlockPreconditioner::LeafBlockPreconditioner(const CollocationOperator& op,
                                                  const std::vector<std::vector<uint32_t>>& blocks, int threads,
-                                                 double overlap_ratio, double overlap_limit)
+                                                 double overlap_ratio)
     : blocks_(blocks), own_(blocks.size()), lu_(blocks.size()),
       threads_(threads > 0 ? threads : omp_get_max_threads()) {
   size_t overlap = 0;
-  // The LU is cubic in a block's rows, and a block's overlap is not known
-  // before it is gathered: the largest own sets first, one block at a time,
-  // so that no thread is left with a large block at the end.
-  std::vector<long> largest_first(blocks_.size());
-  for (size_t b = 0; b < blocks_.size(); ++b) largest_first[b] = static_cast<long>(b);
-  std::stable_sort(largest_first.begin(), largest_first.end(),
-                   [&](long a, long c) { return blocks_[a].size() > blocks_[c].size(); });
 #pragma omp parallel num_threads(threads_) reduction(+ : overlap)
   {
     // This thread's own ICV (it ends with the region): Eigen's LU would
@@ -255,32 +247,21 @@ LeafBlockPreconditioner::LeafBlockPreconditioner(const CollocationOperator& op,
     // several): 40 % of a one-thread solve's samples were libgomp spinning.
     omp_set_num_threads(1);
     std::vector<int> mark(op.size(), -1);
-    std::vector<CollocationOperator::Coupling> strong;
-#pragma omp for schedule(dynamic, 1)
-    for (long i = 0; i < static_cast<long>(blocks_.size()); ++i) {
-      const long b = largest_first[i];
+    std::vector<uint32_t> strong;
+#pragma omp for schedule(dynamic, 8)
+    for (long b = 0; b < static_cast<long>(blocks_.size()); ++b) {
       auto& idx = blocks_[b];
       own_[b] = idx.size();
       if (overlap_ratio > 0) {
         strong.clear();
         for (size_t k = 0; k < own_[b]; ++k) op.strong_couplings(idx[k], overlap_ratio, strong);
-        size_t limit = SIZE_MAX;
-        if (overlap_limit > 0) {
-          limit = own_[b] + static_cast<size_t>(overlap_limit * static_cast<double>(own_[b]));
-          // Strongest first; ties by index, so the blocks do not depend on the thread count.
-          std::sort(strong.begin(), strong.end(), [](const auto& a, const auto& c) {
-            return a.strength != c.strength ? a.strength > c.strength : a.j < c.j;
-          });
-        }
         // `mark` doubles as the membership test (block() leaves it all -1).
         for (uint32_t j : idx) mark[j] = 0;
-        for (const auto& s : strong) {
-          if (idx.size() >= limit) break;
-          if (mark[s.j] < 0) {
-            mark[s.j] = 0;
-            idx.push_back(s.j);
+        for (uint32_t j : strong)
+          if (mark[j] < 0) {
+            mark[j] = 0;
+            idx.push_back(j);
           }
-        }
         for (uint32_t j : idx) mark[j] = -1;
         overlap += idx.size() - own_[b];
       }

@@ -42,14 +42,9 @@ class CollocationOperator {
   // unit_potential. `mark` is scratch of size() ints, all -1, returned so.
   Eigen::MatrixXd block(const std::vector<uint32_t>& idx, std::vector<int>& mark) const;
   // Appends to `out` the triangles j != i with A_ij >= ratio * A_ii (from the
-  // near matrix), each with its strength A_ij / A_ii: the triangles that
-  // nearly coincide with triangle i as seen from its centroid (overlapping
-  // copies in a noisy soup).
-  struct Coupling {
-    float strength;
-    uint32_t j;
-  };
-  void strong_couplings(uint32_t i, double ratio, std::vector<Coupling>& out) const;
+  // near matrix): the triangles that nearly coincide with triangle i as seen
+  // from its centroid (overlapping copies in a noisy soup).
+  void strong_couplings(uint32_t i, double ratio, std::vector<uint32_t>& out) const;
   double setup_seconds() const { return setup_seconds_; }
   // Row i of the precomputed near matrix: A_ij for j = cols[k], k < count.
   struct NearRow {
@@ -99,10 +94,8 @@ class CollocationOperator {
 class LeafBlockPreconditioner {
  public:
   // overlap_ratio <= 0: plain block-Jacobi.
-  // overlap_limit > 0: at most overlap_limit * (own rows) overlap rows per
-  // block, the strongest couplings first.
   LeafBlockPreconditioner(const CollocationOperator& A, const std::vector<std::vector<uint32_t>>& blocks,
-                          int threads, double overlap_ratio = 0, double overlap_limit = 0);
+                          int threads, double overlap_ratio = 0);
   void apply(const std::vector<double>& r, std::vector<double>& z) const;
   // Triangles added by the overlap, over all blocks.
   size_t overlap_size() const { return overlap_; }

@@ -11,7 +11,7 @@
 
 namespace soupuv::pipeline {
 
-inline constexpr const char* kFieldCacheVersion = "field-cache-11";  // 11: preconditioner overlap limited; 10: a stalled GMRES stops; 9: consistent seed weld, singular preconditioner blocks regularised; 8: no cut-probe switch
+inline constexpr const char* kFieldCacheVersion = "field-cache-10";  // 10: a stalled GMRES stops; 9: consistent seed weld, singular preconditioner blocks regularised; 8: no cut-probe switch
 
 cache::Bytes encode(const field::ChargeResult& charges);
 field::ChargeResult decode_charges(std::span<const uint8_t> bytes);

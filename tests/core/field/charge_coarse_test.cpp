@@ -19,30 +19,16 @@
 using namespace soupuv;
 using namespace soupuv::field;
 
-namespace {
-
-// The sources of a noisy 3,200-triangle torus soup.
-SourceGeometry noisy_torus_sources(double noise, unsigned seed) {
-  const Soup soup = shapes::to_soup(shapes::torus_with(1.0, 0.5, 3200), noise, seed);
-  return make_sources(soup.positions, soup.triangles, 4);
-}
-
-// A small, one-thread FMM for the operator's far field.
-FmmOptions small_fmm() {
+TEST(CoarseCorrection, CoarseOperatorMatchesTheDenseMatrix) {
+  // A noisy soup: overlapping neighbours are where the near part matters.
+  Soup soup = shapes::to_soup(shapes::torus_with(1.0, 0.5, 3200), 1e-3, 1);
+  SourceGeometry src = make_sources(soup.positions, soup.triangles, 4);
+  const size_t n = src.size();
   FmmOptions fo;
   fo.order = 6;
   fo.leaf_size = 32;
   fo.threads = 1;
-  return fo;
-}
-
-}  // namespace
-
-TEST(CoarseCorrection, CoarseOperatorMatchesTheDenseMatrix) {
-  // A noisy soup: overlapping neighbours are where the near part matters.
-  const SourceGeometry src = noisy_torus_sources(1e-3, 1);
-  const size_t n = src.size();
-  CollocationOperator A(src, small_fmm());
+  CollocationOperator A(src, fo);
   const auto blocks = A.fmm().source_blocks(64);
   ASSERT_GT(blocks.size(), 20u);
   LeafBlockPreconditioner B(A, blocks, 1);
@@ -102,44 +88,4 @@ TEST(CoarseCorrection, CutsKrylovIterationsAtTheSameAccuracy) {
   }
   EXPECT_LE(coarse.iterations * 3, plain.iterations * 2);  // at least a third fewer
   EXPECT_LT(full.iterations, coarse.iterations);
-}
-
-TEST(LeafBlockPreconditioner, OverlapLimitBoundsTheRowsTheStrongestFirst) {
-  // Noise of the edge length's order: many neighbours pass the coupling
-  // ratio, so without a limit the blocks grow well past their own rows.
-  const SourceGeometry src = noisy_torus_sources(2e-2, 3);
-  const size_t n = src.size();
-  CollocationOperator A(src, small_fmm());
-  const auto blocks = A.fmm().source_blocks(64);
-  const double ratio = 0.2;
-  LeafBlockPreconditioner unlimited(A, blocks, 1, ratio);
-  const double grown = double(unlimited.overlap_size()) / double(n);
-  std::printf("overlap without a limit: %.2f rows per own row\n", grown);
-  ASSERT_GT(grown, 0.5);
-  const double limit = grown / 2;
-  LeafBlockPreconditioner limited(A, blocks, 1, ratio, limit);
-  // Per block at most limit x its own rows (rounded down), so over all
-  // blocks at most limit x n.
-  EXPECT_LE(double(limited.overlap_size()), limit * double(n));
-  EXPECT_GT(double(limited.overlap_size()), 0.9 * limit * double(n) - double(blocks.size()));
-  // The strongest couplings first, so half the overlap rows keep most of
-  // the overlap's effect: on a random residual the limited preconditioner's
-  // answer lies far closer to the unlimited one's than that of plain
-  // block-Jacobi (squared distances).
-  LeafBlockPreconditioner none(A, blocks, 1, 0);
-  double with_limit = 0, without = 0;
-  std::mt19937 rng(7);
-  std::uniform_real_distribution<double> u(-1, 1);
-  std::vector<double> r(n), z_all, z_limited, z_none;
-  for (double& v : r) v = u(rng);
-  unlimited.apply(r, z_all);
-  limited.apply(r, z_limited);
-  none.apply(r, z_none);
-  for (size_t i = 0; i < n; ++i) {
-    with_limit += (z_limited[i] - z_all[i]) * (z_limited[i] - z_all[i]);
-    without += (z_none[i] - z_all[i]) * (z_none[i] - z_all[i]);
-  }
-  std::printf("preconditioner difference to the unlimited overlap: limited %.3e, none %.3e\n", std::sqrt(with_limit),
-              std::sqrt(without));
-  EXPECT_LT(with_limit, 0.5 * without);
 }

@@ -80,12 +80,6 @@ struct ChargeOptions {
   // (loaded machine): 0: 22 mat-vecs, 0.5: 21, 0.3: 13, 0.2: 10 (solve CPU
   // 9.2 -> 7.3 s), 0.12: 9 with a larger set-up.
   double krylov_overlap_ratio = 0.2;
-  // At most this many overlap rows per own row of a block, the most strongly
-  // coupled first (A_ij / A_ii); <= 0: no limit. Why: on CAD soups of sliver
-  // fans nearly every neighbour passes the ratio: valve's 179 blocks of <= 128
-  // rows grew to 43,632 rows (3.3x its triangles), the largest to 1,093, and
-  // the block LUs (cubic) took most of its set-up (docs/tuning.md, session 41).
-  double krylov_overlap_limit = 3;
   // How the true error is re-evaluated: direct summation up to this many
   // triangles, above it an FMM of order verify_order (0: fmm_order + 2, at
   // theta 0.5 about 10x below the solve's own FMM error) on the solver's
