@@ -7,8 +7,9 @@
 //         corners per query for ~440 within the tolerance).
 // Output: for_each_near(p, f) calls f(corner id, position) for every corner
 //         of the cells within the reach of p (the grid's, or one given per
-//         query): every corner within the reach, and some beyond it. A fixed order (cells x, then y, then z, each in
-//         corner order), so callers' candidate lists are deterministic.
+//         query): every corner within the reach, and some beyond it. A fixed
+//         order (cells x, then y, then z, each in corner order), so callers'
+//         candidate lists are deterministic.
 //         Built with_next, it also stores each corner's next corner in its
 //         triangle (k + 1 mod 3) and f may take its position as a third
 //         argument (only then: a grid built without it has no such

@@ -63,9 +63,9 @@ Weld weld_corners_from(const Soup& soup, double tolerance, double edge_fraction,
     for (size_t c = c0; c < c1; ++c) {
       const Vec3 p = pos(c);
       // A partner lies within both triangles' caps, so within this one's:
-      // on a 124k scan, where the tolerance spans several edges, the cap is
-      // the smaller reach (the seeds' extension, at half the shortest edge:
-      // 1.1-1.6 -> 0.5 s on the corpus's ogre, the same weld).
+      // on a scan, where the tolerance spans several edges, the cap is the
+      // smaller reach (docs/tuning.md, "The corner weld queried within each
+      // triangle's cap").
       const double reach = exact ? 0.0 : cap2.empty() ? tolerance : std::min(tolerance, std::sqrt(cap2[c / 3]));
       grid.for_each_near(p, reach, [&](uint32_t o, const Vec3& q) {
         if (o <= c) return;
