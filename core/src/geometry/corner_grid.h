@@ -76,6 +76,63 @@ class CornerGrid {
     }
   }
 
+  // visit(first, end, centre) for every non-empty cell: its entries
+  // [first, end) (entry_corner, entry_position, entry_next) and its centre,
+  // in no particular order. For callers that batch the queries of one cell
+  // (for_each_near_cell).
+  template <class Visit>
+  void for_each_cell(Visit&& visit) const {
+    for (const Slot& s : slots_) {
+      if (s.key == kEmpty) continue;
+      const int64_t x = int64_t(s.key & 0x1fffff), y = int64_t((s.key >> 21) & 0x1fffff),
+                    z = int64_t((s.key >> 42) & 0x1fffff);
+      visit(s.first, s.end, Vec3{lo_.x + (double(x) + 0.5) * cell_, lo_.y + (double(y) + 0.5) * cell_,
+                                 lo_.z + (double(z) + 0.5) * cell_});
+    }
+  }
+  // visit(corner, position[, next position]) for every corner of the cells
+  // that come within the grid's reach of the cell holding p (box to box):
+  // every corner within the reach of any point of that cell. A fixed order.
+  // on_cell(lo, hi) is called before each non-empty cell's corners with
+  // the cell's box.
+  template <class OnCell, class Visit>
+  void for_each_near_cell(const Vec3& p, OnCell&& on_cell, Visit&& visit) const {
+    if constexpr (std::is_invocable_v<Visit, uint32_t, const Vec3&, const Vec3&>)
+      if (next_.size() != entries_.size()) std::abort();  // built without with_next: a caller's bug
+    const double reach2 = reach_ * reach_ * (1 + 1e-9);
+    const int64_t r = int64_t(std::ceil(reach_ / cell_ * (1 + 1e-9)));
+    const int64_t cx = coord(p.x, lo_.x), cy = coord(p.y, lo_.y), cz = coord(p.z, lo_.z);
+    // The gap between two cells d apart along an axis.
+    auto gap2 = [&](int64_t d) {
+      const double g = double(std::max<int64_t>(std::abs(d) - 1, 0)) * cell_;
+      return g * g;
+    };
+    for (int64_t x = std::max<int64_t>(cx - r, 0); x <= cx + r; ++x) {
+      const double gx = gap2(x - cx);
+      if (gx > reach2) continue;
+      for (int64_t y = std::max<int64_t>(cy - r, 0); y <= cy + r; ++y) {
+        const double gxy = gx + gap2(y - cy);
+        if (gxy > reach2) continue;
+        for (int64_t z = std::max<int64_t>(cz - r, 0); z <= cz + r; ++z) {
+          if (gxy + gap2(z - cz) > reach2) continue;
+          const Slot* cell = find(key(x, y, z));
+          if (!cell) continue;
+          const Vec3 lo{lo_.x + double(x) * cell_, lo_.y + double(y) * cell_, lo_.z + double(z) * cell_};
+          on_cell(lo, Vec3{lo.x + cell_, lo.y + cell_, lo.z + cell_});
+          for (uint32_t i = cell->first; i < cell->end; ++i) {
+            if constexpr (std::is_invocable_v<Visit, uint32_t, const Vec3&, const Vec3&>)
+              visit(entries_[i].corner, entries_[i].position, next_[i]);
+            else
+              visit(entries_[i].corner, entries_[i].position);
+          }
+        }
+      }
+    }
+  }
+  uint32_t entry_corner(size_t i) const { return entries_[i].corner; }
+  const Vec3& entry_position(size_t i) const { return entries_[i].position; }
+  const Vec3& entry_next(size_t i) const { return next_[i]; }
+
   // visit(corner, position) for every corner of the cells that come within
   // `reach` of p, cell by cell (x, then y, then z), each in corner order.
   template <class Visit>

@@ -28,10 +28,12 @@
 //         neighbour pairs) and the repair then untangles a patch that was
 //         never a surface. An edge needs both ends to agree, so a wrong
 //         partner must be close at both ends, which is much rarer.
-// Cost  : O(n) expected (uniform hash grid, corner_grid.h), plus sorting the
-//         candidate pairs and the matching (local searches, in parallel over
-//         the candidates' connected parts); the pass over the candidates runs
-//         on the OpenMP threads.
+// Cost  : O(n) expected (uniform hash grid, corner_grid.h; the queries of
+//         one cell tested together against the corners around it, eight at
+//         a time: edge_block.h), plus sorting the candidate pairs and the
+//         matching (local searches, in parallel over the candidates'
+//         connected parts); the pass over the candidates runs on the OpenMP
+//         threads.
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -40,6 +42,7 @@
 #include <omp.h>
 
 #include "geometry/corner_grid.h"
+#include "geometry/edge_block.h"
 #include "geometry/pair_matching.h"
 #include "geometry/shared_triangle.h"
 #include "soupuv/geometry/weld.h"
@@ -68,9 +71,14 @@ Weld weld_by_edges(const Soup& soup, double tolerance, double ambiguity_ratio, b
 
   const Box3 box = bounding_box(soup);
   const double span = std::max({box.extent().x, box.extent().y, box.extent().z, 0.0});
-  // A zero tolerance still buckets exact copies together; the grid stays at
-  // most 2^20 cells per axis (a coarser cell only costs more distance tests).
-  const double cell = std::max({tolerance / 2, span / double(1 << 20), box.diagonal() * 1e-9, 1e-300});
+  // Cells a hair over the tolerance: every corner within the tolerance of
+  // a cell's point lies in the 27 cells around it, whatever the rounding
+  // (cells of exactly the tolerance reached two cells out), and a cell's
+  // queries share that block (cells of half the tolerance gave a block of
+  // 125 cells to ~4 queries). A zero tolerance still buckets exact copies
+  // together; the grid stays at most 2^20 cells per axis (a coarser cell
+  // only costs more distance tests).
+  const double cell = std::max({tolerance * (1 + 1e-6), span / double(1 << 20), box.diagonal() * 1e-9, 1e-300});
   const CornerGrid grid(soup, box, cell, tolerance, /*with_next=*/true);
 
   // Each triangle's normal (unnormalised) and its length, computed once:
@@ -97,34 +105,82 @@ Weld weld_by_edges(const Soup& soup, double tolerance, double ambiguity_ratio, b
   };
   const double tol2 = tolerance * tolerance;
   // Every candidate pair (edge, other edge running back within the
-  // tolerance at both ends) whose edge lies in [e0, e1), each listed once.
-  auto for_each_candidate = [&](uint32_t e0, uint32_t e1, auto&& f) {
-    for (uint32_t e = e0; e < e1; ++e) {
-      const Vec3 p = pos(e), q = pos(next(e));
-      grid.for_each_near(q, [&](uint32_t c, const Vec3& at, const Vec3& at_next) {  // c lies near q
-        // Each pair is listed by its lower edge id (the tests are symmetric).
-        if (c <= e && (!flipped_neighbours || prev(c) <= e)) return;
-        if (c / 3 == e / 3) return;
-        const double dq = norm2(at - q);
-        if (dq > tol2) return;
-        // Back along c -> next(c) (consistent winding), or forward along
-        // prev(c) -> c (a flipped neighbour).
-        if (e < c) {
-          const double back = norm2(at_next - p);
-          if (back <= tol2 && !overlaps(e, c)) f(EdgeMatch{dq + back, e, c, false});
+  // tolerance at both ends), each listed once, by the queries of the grid
+  // cells [k0, k1): a cell's query edges are those ending at its corners;
+  // the corners near any of them are gathered once (edge_block.h) and each
+  // query tests them all, the survivors exactly in double.
+  struct Cell {
+    uint32_t first, end;
+    Vec3 centre;
+  };
+  std::vector<Cell> cells;
+  grid.for_each_cell([&](uint32_t first, uint32_t end, const Vec3& centre) { cells.push_back({first, end, centre}); });
+  // The float prefilter's reach: a hair over the tolerance (float rounding
+  // of coordinates within ~2 tolerances of the cell's centre is ~1e-7 of
+  // them); 0 stays 0, which passes exact copies only.
+  const float reach2 = float(tol2 * (1 + 1e-3));
+  // The float costs' error: ~1e-7 of the coordinates (within ~2 tolerances
+  // of the cell's centre) in each squared distance.
+  const float bound_margin = float(1e-5 * tol2);
+  auto for_each_candidate = [&](size_t k0, size_t k1, const std::vector<float>& bound_of, auto&& wanted, auto&& f) {
+    detail::EdgeBlock block;
+    std::vector<const Vec3*> at_of, next_of;
+    std::vector<uint32_t> hits;
+    for (size_t k = k0; k < k1; ++k) {
+      const Cell& cell = cells[k];
+      const Vec3 o = cell.centre;
+      block.clear();
+      at_of.clear();
+      next_of.clear();
+      grid.for_each_near_cell(
+          o,
+          [&](const Vec3& lo, const Vec3& hi) {
+            block.begin_run(lo - o, hi - o);
+            at_of.resize(block.size(), nullptr);  // the padding of the run before
+            next_of.resize(block.size(), nullptr);
+          },
+          [&](uint32_t c, const Vec3& at, const Vec3& at_next) {
+            block.add(c, at - o, at_next - o, flipped_neighbours ? pos(prev(c)) - o : Vec3{0, 0, 0});
+            at_of.push_back(&at);
+            next_of.push_back(&at_next);
+          });
+      block.seal();
+      for (uint32_t i = cell.first; i < cell.end; ++i) {
+        const uint32_t e = prev(grid.entry_corner(i));  // the edge e -> next(e) ends in this cell
+        const Vec3 p = pos(e), q = grid.entry_position(i);
+        const Vec3 qo = q - o, po = p - o;
+        const float qf[3] = {float(qo.x), float(qo.y), float(qo.z)}, pf[3] = {float(po.x), float(po.y), float(po.z)};
+        // Without flipped neighbours a pair is listed by its lower edge:
+        // only corners above e can pair with it here.
+        const detail::CostBound bound{bound_of.data(), bound_of[e], bound_margin};
+        block.near_both(qf, pf, reach2, flipped_neighbours, flipped_neighbours ? 0 : e + 1,
+                        flipped_neighbours ? nullptr : &bound, hits);
+        for (const uint32_t h : hits) {
+          const uint32_t c = block.corner(h);  // c lies near q
+          // Each pair is listed by its lower edge id (the tests are symmetric).
+          if (c <= e && (!flipped_neighbours || prev(c) <= e)) continue;
+          if (c / 3 == e / 3) continue;
+          const double dq = norm2(*at_of[h] - q);
+          if (dq > tol2) continue;
+          // Back along c -> next(c) (consistent winding), or forward along
+          // prev(c) -> c (a flipped neighbour).
+          if (e < c) {
+            const double back = norm2(*next_of[h] - p);
+            if (back <= tol2 && wanted(dq + back, e, c) && !overlaps(e, c)) f(EdgeMatch{dq + back, e, c, false});
+          }
+          if (flipped_neighbours && e < prev(c)) {
+            const double forward = norm2(pos(prev(c)) - p);
+            if (forward <= tol2 && wanted(dq + forward, e, prev(c)) && !overlaps(e, prev(c)))
+              f(EdgeMatch{dq + forward, e, prev(c), true});
+          }
         }
-        if (flipped_neighbours && e < prev(c)) {
-          const double forward = norm2(pos(prev(c)) - p);
-          if (forward <= tol2 && !overlaps(e, prev(c)))
-            f(EdgeMatch{dq + forward, e, prev(c), true});
-        }
-      });
+      }
     }
   };
-  // The pass over the candidates splits the edges over the threads, in
-  // contiguous ranges (thread order is edge order).
+  // The pass over the candidates splits the cells over the threads (each
+  // keeps its own least costs, merged after: the result does not depend
+  // on which thread found a pair).
   const int threads = std::max(1, omp_get_max_threads());
-  auto range = [&](int i, int of) { return uint32_t(uint64_t(corners) * uint64_t(i) / uint64_t(of)); };
 
   // Each edge's kKept least candidate costs (per thread, then merged:
   // the least of the union). Only a pair among the kKept cheapest of both
@@ -156,14 +212,37 @@ Weld weld_by_edges(const Soup& soup, double tolerance, double ambiguity_ratio, b
   std::vector<std::vector<EdgeMatch>> kept(threads);
 #pragma omp parallel num_threads(threads)
   {
-    const int me = omp_get_thread_num(), of = omp_get_num_threads();
+    const int me = omp_get_thread_num();
     std::vector<double>& least = least_of[me];
     least.assign(size_t(corners) * kKept, kNone);
-    for_each_candidate(range(me, of), range(me + 1, of), [&](const EdgeMatch& m) {
+    // A pair at or above both edges' kKept-th least cost so far (and above
+    // one of them) changes neither list nor is offered, and never will be
+    // (the least costs only fall): it skips the overlap test. On a noisy
+    // 124k scan ~48 million pairs lie within the tolerance at both ends,
+    // and testing each was most of the weld.
+    auto wanted = [&](double cost, uint32_t edge, uint32_t other) {
+      const double e = least[size_t(edge) * kKept + kKept - 1], o = least[size_t(other) * kKept + kKept - 1];
+      return !(cost >= e && cost >= o && (cost > e || cost > o));
+    };
+    // Each edge's kKept-th least cost so far, rounded up to float: the SIMD
+    // prefilter's cost bound (edge_block.h).
+    std::vector<float> bound_of(corners, INFINITY);
+    auto bound = [&](uint32_t edge) {
+      const double x = least[size_t(edge) * kKept + kKept - 1];
+      float f = float(x);
+      if (double(f) < x) f = std::nextafter(f, INFINITY);
+      bound_of[edge] = f;
+    };
+    auto keep = [&](const EdgeMatch& m) {
       note(&least[size_t(m.edge) * kKept], m.cost);
       note(&least[size_t(m.other) * kKept], m.cost);
+      bound(m.edge), bound(m.other);
       if (offered(m.cost, m.edge, m.other, least)) kept[me].push_back(m);
-    });
+    };
+    // Chunks of cells, taken in turn: a cell's work varies with its corners.
+    constexpr size_t kChunk = 64;
+#pragma omp for schedule(dynamic, 1)
+    for (size_t k = 0; k < cells.size(); k += kChunk) for_each_candidate(k, std::min(cells.size(), k + kChunk), bound_of, wanted, keep);
   }
   std::vector<double>& least = least_of[0];
   for (int t = 1; t < threads; ++t) {
@@ -179,7 +258,9 @@ Weld weld_by_edges(const Soup& soup, double tolerance, double ambiguity_ratio, b
   kept = {};
   least_of = {};
   std::sort(candidates.begin(), candidates.end(), [](const EdgeMatch& a, const EdgeMatch& b) {
-    return a.cost != b.cost ? a.cost < b.cost : (a.edge != b.edge ? a.edge < b.edge : a.other < b.other);
+    if (a.cost != b.cost) return a.cost < b.cost;
+    if (a.edge != b.edge) return a.edge < b.edge;
+    return a.other != b.other ? a.other < b.other : a.reversed < b.reversed;
   });
   // The least-cost matching (pair_matching.h) chooses the pairs; an edge
   // left alone costs as much as the dearest pair, so every pair is worth
