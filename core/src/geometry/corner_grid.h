@@ -119,12 +119,7 @@ class CornerGrid {
           if (!cell) continue;
           const Vec3 lo{lo_.x + double(x) * cell_, lo_.y + double(y) * cell_, lo_.z + double(z) * cell_};
           on_cell(lo, Vec3{lo.x + cell_, lo.y + cell_, lo.z + cell_});
-          for (uint32_t i = cell->first; i < cell->end; ++i) {
-            if constexpr (std::is_invocable_v<Visit, uint32_t, const Vec3&, const Vec3&>)
-              visit(entries_[i].corner, entries_[i].position, next_[i]);
-            else
-              visit(entries_[i].corner, entries_[i].position);
-          }
+          visit_entries(*cell, visit);
         }
       }
     }
@@ -168,18 +163,24 @@ class CornerGrid {
           if (gxy + gap2(p.z, lo_.z, z) > reach2) continue;
           const Slot* cell = find(key(x, y, z));
           if (!cell) continue;
-          for (uint32_t i = cell->first; i < cell->end; ++i) {
-            if constexpr (std::is_invocable_v<Visit, uint32_t, const Vec3&, const Vec3&>)
-              visit(entries_[i].corner, entries_[i].position, next_[i]);
-            else
-              visit(entries_[i].corner, entries_[i].position);
-          }
+          visit_entries(*cell, visit);
         }
       }
     }
   }
 
  private:
+  struct Slot;
+  // visit(corner, position[, next position]) for each entry of one cell.
+  template <class Visit>
+  void visit_entries(const Slot& cell, Visit& visit) const {
+    for (uint32_t i = cell.first; i < cell.end; ++i) {
+      if constexpr (std::is_invocable_v<Visit, uint32_t, const Vec3&, const Vec3&>)
+        visit(entries_[i].corner, entries_[i].position, next_[i]);
+      else
+        visit(entries_[i].corner, entries_[i].position);
+    }
+  }
   struct Entry {
     Vec3 position;
     uint32_t corner;
