@@ -2,6 +2,8 @@
 
 #include <immintrin.h>
 
+#include <cstdlib>
+
 namespace soupuv::geometry::detail {
 
 namespace {
@@ -87,7 +89,8 @@ const bool kHasAvx2 = __builtin_cpu_supports("avx2") && __builtin_cpu_supports("
 
 }  // namespace
 
-void EdgeBlock::clear() {
+void EdgeBlock::clear(bool with_prev) {
+  with_prev_ = with_prev;
   runs_.clear();
   corner_.clear();
   for (int d = 0; d < 3; ++d) c_[d].clear(), n_[d].clear(), v_[d].clear();
@@ -100,7 +103,7 @@ void EdgeBlock::pad() {
   for (int d = 0; d < 3; ++d) {
     c_[d].resize(padded, kFar);
     n_[d].resize(padded, kFar);
-    v_[d].resize(padded, kFar);
+    if (with_prev_) v_[d].resize(padded, kFar);
   }
   runs_.back().end = uint32_t(padded);
 }
@@ -117,7 +120,7 @@ void EdgeBlock::add(uint32_t corner, const Vec3& at, const Vec3& next, const Vec
   for (int d = 0; d < 3; ++d) {
     c_[d].push_back(float(a[d]));
     n_[d].push_back(float(b[d]));
-    v_[d].push_back(float(e[d]));
+    if (with_prev_) v_[d].push_back(float(e[d]));
   }
 }
 
@@ -126,6 +129,7 @@ void EdgeBlock::seal() { pad(); }
 void EdgeBlock::near_both(const float q[3], const float p[3], float r2, bool with_prev, uint32_t min_corner,
                           const CostBound* bound, std::vector<uint32_t>& out) const {
   out.clear();
+  if (with_prev && !with_prev_) std::abort();  // a caller's bug: the block holds no previous corners
   if (with_prev) bound = nullptr;  // the pair's other edge is not the block corner's own
   for (const Run& r : runs_) {
     // The run's box against the ball around q (the box bounds its corners

@@ -40,7 +40,9 @@ struct CostBound {
 
 class EdgeBlock {
  public:
-  void clear();
+  // Empties the block; with_prev: add() keeps the previous corners' positions
+  // (near_both's with_prev needs them; otherwise they are not stored).
+  void clear(bool with_prev);
   // Starts a run of corners inside the box [lo, hi] (relative positions).
   void begin_run(const Vec3& lo, const Vec3& hi);
   void add(uint32_t corner, const Vec3& at, const Vec3& next, const Vec3& prev);
@@ -62,7 +64,8 @@ class EdgeBlock {
   void pad();
   std::vector<Run> runs_;
   std::vector<uint32_t> corner_;
-  std::vector<float> c_[3], n_[3], v_[3];  // corner, next, previous: x, y, z
+  std::vector<float> c_[3], n_[3], v_[3];  // corner, next, previous (with_prev_ only): x, y, z
+  bool with_prev_ = false;
 };
 
 }  // namespace soupuv::geometry::detail

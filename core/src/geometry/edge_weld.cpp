@@ -129,7 +129,7 @@ Weld weld_by_edges(const Soup& soup, double tolerance, double ambiguity_ratio, b
     for (size_t k = k0; k < k1; ++k) {
       const Cell& cell = cells[k];
       const Vec3 o = cell.centre;
-      block.clear();
+      block.clear(flipped_neighbours);
       at_of.clear();
       next_of.clear();
       grid.for_each_near_cell(

@@ -84,6 +84,7 @@ TEST(EdgeBlock, NearBothMatchesADirectTestInDouble) {
         const uint32_t e = pick(rng);
         const Vec3 p = pos(e), q = pos(next(e)), o = q + Vec3{0.01, -0.01, 0.005};
         detail::EdgeBlock block;
+        block.clear(with_prev);
         // Two runs: every corner, split at the median x (boxes from their corners).
         std::vector<uint32_t> order(corners);
         for (uint32_t c = 0; c < corners; ++c) order[c] = c;
