@@ -183,7 +183,11 @@ std::vector<HalvingRound> halve_to_pack(const std::vector<geometry::AdjacentPair
   if (layout.island_count > options.max_islands) return rounds;
   UvLayout trial = layout;
   const double kept_before = kept_pair_share(pairs, layout);
-  for (int round = 0; round < options.rounds && packed.utilisation < options.below; ++round) {
+  auto more = [&](int round) {
+    return packed.utilisation < options.below &&
+           (round < options.rounds || (round < options.rounds_below_target && packed.utilisation < utilisation_target));
+  };
+  for (int round = 0; more(round); ++round) {
     // Below both targets, the utilisation's may cost a little continuity.
     const double min_kept = kept_before < options.min_kept_pairs && packed.utilisation < utilisation_target
                                 ? kept_before - options.max_cut_below_target

@@ -35,7 +35,8 @@ bool halve_island(UvLayout& layout, uint32_t island);
 
 // Packing with halving (HalvingOptions, soup_uv_solve.h). A map whose
 // packing `packed` (corner_uvs) fills less than options.below of the
-// square: up to options.rounds times, its islands of at least half the
+// square: up to options.rounds times (up to options.rounds_below_target
+// while below utilisation_target), its islands of at least half the
 // largest's area are halved and the map packed again (pack_islands.h) --
 // where halving them all would cut too many pairs, the one whose halving
 // cuts the fewest alone --; a round is kept (layout, corner_uvs and packed

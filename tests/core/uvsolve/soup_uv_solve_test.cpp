@@ -353,6 +353,23 @@ TEST(SoupUvSolve, TwoLargeDiscsAreHalvedToFillTheSquare) {
   EXPECT_GT(s.diagnostics["pack"]["islands"].get<int>(), 2) << s.diagnostics["pack"].dump();
 }
 
+TEST(SoupUvSolve, AMapBelowTheUtilisationTargetIsHalvedBeyondTheUsualRounds) {
+  // No usual rounds: the two discs (at most 0.54 of the square, below the
+  // target) are still halved, in the rounds allowed below the target, until
+  // the map reaches it; with none allowed they stay whole.
+  const Case discs = two_discs();
+  uvsolve::SoupUvOptions o;
+  o.halving.rounds = 0;
+  const Solved halved = solve(discs, 0.01, o);
+  expect_sound(discs, halved.uv);
+  EXPECT_GT(halved.diagnostics["pack"]["islands"].get<int>(), 2) << halved.diagnostics["pack"].dump();
+  const quality::UvOverlap u = quality::uv_overlap(halved.uv, std::vector<uint8_t>(halved.uv.size(), 1));
+  EXPECT_GE(u.utilisation, o.utilisation_target) << halved.diagnostics["pack"].dump();
+  o.halving.rounds_below_target = 0;
+  const Solved whole = solve(discs, 0.01, o);
+  EXPECT_EQ(whole.diagnostics["pack"]["islands"].get<int>(), 2) << whole.diagnostics["pack"].dump();
+}
+
 TEST(SoupUvSolve, AMapStillBelowTheUtilisationTargetIsPackedAgainThoroughly) {
   // Two discs, not halved: two equal circles fill at most 0.54 of the
   // square, below the target; the thorough packing is tried and kept only

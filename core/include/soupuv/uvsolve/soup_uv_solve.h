@@ -57,7 +57,10 @@ namespace soupuv::uvsolve {
 // Maps of at most max_islands islands packed below `below` utilisation: up
 // to `rounds` times, the islands of at least half the largest one's area
 // are halved where the cut crosses the fewest edges (halve_island.h) and
-// the map packed again; a round is kept while it raises the utilisation
+// the map packed again (while the map is still below
+// SoupUvOptions::utilisation_target, up to rounds_below_target times: a
+// branching island such as a character's limbs and torso in one piece
+// needs a cut per branch); a round is kept while it raises the utilisation
 // and leaves at least min_kept_pairs of the welded pairs uncut (the
 // product's continuity target: halving never trades it away). A map that
 // keeps fewer pairs than that before halving and packs below
@@ -69,6 +72,7 @@ struct HalvingOptions {
   uint32_t max_islands = 64;
   double below = 0.72;
   int rounds = 2;
+  int rounds_below_target = 8;
   double min_kept_pairs = 0.95;
   double max_cut_below_target = 0.015;
 };
