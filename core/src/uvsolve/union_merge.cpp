@@ -28,6 +28,14 @@ constexpr double kFlattenCostKnee = 3000;
 size_t flatten_cost(size_t size) {
   return size_t(double(size) * std::max(1.0, std::sqrt(double(size) / kFlattenCostKnee)));
 }
+// One flattening may cost at most this many times the soup's triangles
+// (flatten_cost): at most the soup's own size, so no single union costs
+// more than a linear pass over the soup. Unions below the knee are never
+// held back; above it, the largest union flattened is ~24k triangles on a
+// 69k soup. On stanford-bunny (69k, 14 islands) the unions of 47k and 60k
+// triangles and the fallbacks of failed local joins onto a 32k island took
+// 5-10 s each against a 7-9 s trace (docs/tuning.md, session 43).
+constexpr double kMaxOneFlatten = 1;
 // An island at most this share of the other's size is first joined onto
 // the larger one's map as it stands (local_join.h); only when that fails
 // is the union flattened anew.
@@ -99,6 +107,7 @@ UnionMergeFigures merge_by_reflattening(const Soup& soup, double uv_per_length,
     Outcome outcome = Outcome::parts;
     double stretch_floor = 1;  // on a stretch refusal (piece_flatten.h)
     bool local_first = false;     // joined onto i's map first (local_join.h)
+    bool whole_allowed = true;    // the union may be flattened anew (kMaxOneFlatten)
     bool joined_locally = false;  // kept so
     bool flattened_whole = false;  // the union flattened anew
   };
@@ -167,13 +176,15 @@ UnionMergeFigures merge_by_reflattening(const Soup& soup, double uv_per_length,
       // flattening; a whole flattening after it is charged when it is made.
       const bool local_first = kLocalJoinRatio * members[j].size() <= members[i].size();
       const size_t cost = flatten_cost(local_first ? members[j].size() : members[i].size() + members[j].size());
-      if (flattened + cost > budget) continue;
+      const bool whole_allowed = double(flatten_cost(members[i].size() + members[j].size())) <= kMaxOneFlatten * double(n);
+      if (flattened + cost > budget || (!local_first && !whole_allowed)) continue;
       flattened += cost;
       ++f.attempts;
       const bool unchanged = refused.count(refusal_key(i, j)) > 0;
       const bool forecast = !unchanged && heading_over(i, j);
       batch.push_back({i, j, {}, false, unchanged || forecast, {}});
       batch.back().local_first = local_first;
+      batch.back().whole_allowed = whole_allowed;
       f.repeated += unchanged;
       f.forecast_refused += forecast;
       block(i), block(j);
@@ -212,7 +223,7 @@ UnionMergeFigures merge_by_reflattening(const Soup& soup, double uv_per_length,
         if (a.local_first)
           a.outcome = join_locally(m, a.tris, members[a.i].size(), L, cell, max_stretch, solve_iterations, a.piece);
         if (a.outcome == Outcome::kept) a.joined_locally = a.local_first;
-        else {
+        else if (a.whole_allowed) {
           a.outcome = flatten(m, a.tris, cell, max_stretch, solve_iterations, a.piece, &a.stretch_floor);
           a.flattened_whole = true;
         }

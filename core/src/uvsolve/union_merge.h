@@ -21,7 +21,10 @@
 //         triangles counted larger, as its flattening costs more per
 //         triangle; a local join counts as the smaller island's
 //         flattening, and the union's flattening after a failed one is
-//         counted when it is made); attempts on disjoint islands run on `threads`
+//         counted when it is made), and no one flattening costing more
+//         than the soup's size in those units (a union that would is not
+//         tried, and a failed local join is not followed by it); attempts
+//         on disjoint islands run on `threads`
 //         threads. An attempt on two islands refused before, neither
 //         changed since, is answered from that refusal (it counts as
 //         tried, so the result is the same); so is one whose union holds a
