@@ -22,8 +22,9 @@
 //         triangle; a local join counts as the smaller island's
 //         flattening, and the union's flattening after a failed one is
 //         counted when it is made), and no one flattening costing more
-//         than the soup's size in those units (a union that would is not
-//         tried, and a failed local join is not followed by it); attempts
+//         than 2.5 times the soup's size in those units (a union that
+//         would is not tried, nor flattened after a failed local join);
+//         attempts
 //         on disjoint islands run on `threads`
 //         threads. An attempt on two islands refused before, neither
 //         changed since, is answered from that refusal (it counts as
