@@ -339,6 +339,14 @@ Case two_discs() {
   return discs;
 }
 
+// The two discs solved with options o; every map checked sound.
+Solved sound_discs(const uvsolve::SoupUvOptions& o) {
+  const Case discs = two_discs();
+  Solved s = solve(discs, 0.01, o);
+  expect_sound(discs, s.uv);
+  return s;
+}
+
 TEST(SoupUvSolve, TwoLargeDiscsAreHalvedToFillTheSquare) {
   // Two equal circles fill at most 2 pi / (2 + sqrt 2)^2 = 0.54 of a
   // square, their halves fill more.
@@ -357,16 +365,14 @@ TEST(SoupUvSolve, AMapBelowTheUtilisationTargetIsHalvedBeyondTheUsualRounds) {
   // No usual rounds: the two discs (at most 0.54 of the square, below the
   // target) are still halved, in the rounds allowed below the target, until
   // the map reaches it; with none allowed they stay whole.
-  const Case discs = two_discs();
   uvsolve::SoupUvOptions o;
   o.halving.rounds = 0;
-  const Solved halved = solve(discs, 0.01, o);
-  expect_sound(discs, halved.uv);
+  const Solved halved = sound_discs(o);
   EXPECT_GT(halved.diagnostics["pack"]["islands"].get<int>(), 2) << halved.diagnostics["pack"].dump();
   const quality::UvOverlap u = quality::uv_overlap(halved.uv, std::vector<uint8_t>(halved.uv.size(), 1));
   EXPECT_GE(u.utilisation, o.utilisation_target) << halved.diagnostics["pack"].dump();
   o.halving.rounds_below_target = 0;
-  const Solved whole = solve(discs, 0.01, o);
+  const Solved whole = sound_discs(o);
   EXPECT_EQ(whole.diagnostics["pack"]["islands"].get<int>(), 2) << whole.diagnostics["pack"].dump();
 }
 
@@ -374,15 +380,13 @@ TEST(SoupUvSolve, AMapStillBelowTheUtilisationTargetIsPackedAgainThoroughly) {
   // Two discs, not halved: two equal circles fill at most 0.54 of the
   // square, below the target; the thorough packing is tried and kept only
   // where denser.
-  const Case discs = two_discs();
   uvsolve::SoupUvOptions o;
   o.halving.max_islands = 0;
-  const Solved tried = solve(discs, 0.01, o);
-  expect_sound(discs, tried.uv);
+  const Solved tried = sound_discs(o);
   const auto& pack = tried.diagnostics["pack"];
   ASSERT_TRUE(pack["thorough"].is_object()) << pack.dump();
   o.utilisation_target = 0;  // never below: no second packing
-  const Solved plain = solve(discs, 0.01, o);
+  const Solved plain = sound_discs(o);
   EXPECT_TRUE(plain.diagnostics["pack"]["thorough"].is_null());
   EXPECT_GE(pack["utilisation"].get<double>(), plain.diagnostics["pack"]["utilisation"].get<double>());
   EXPECT_EQ(pack["thorough"]["kept"].get<bool>(),
