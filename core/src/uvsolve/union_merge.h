@@ -24,10 +24,9 @@
 //         counted when it is made), and no one flattening costing more
 //         than 2.5 times the soup's size in those units (a union that
 //         would is not tried, nor flattened after a failed local join);
-//         attempts
-//         on disjoint islands run on `threads`
-//         threads. An attempt on two islands refused before, neither
-//         changed since, is answered from that refusal (it counts as
+//         attempts on disjoint islands run on `threads` threads. An
+//         attempt on two islands refused before, neither changed since,
+//         is answered from that refusal (it counts as
 //         tried, so the result is the same); so is one whose union holds a
 //         union refused for its stretch and is forecast to stay above the
 //         budget (union_merge.cpp).
