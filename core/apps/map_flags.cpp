@@ -219,6 +219,14 @@ std::vector<MapFlag> make_table() {
          "keep every small island apart (by default an island whose padding would take more texels than it does is "
          "attached rigidly to a neighbouring island where that folds, laps and stretches nothing)",
          [](MapArgs& m) { opt(m).uv_solve.attach_small_islands = false; }),
+      sw("--no-uv-slit", kSolve,
+         "refuse the union of two islands that has no flat map within the stretch budget (by default, where their "
+         "seam is one loop or the union is closed, it is tried again with half the seam left open)",
+         [](MapArgs& m) { opt(m).uv_solve.slit_unions = false; }),
+      sw("--no-uv-straighten", kSolve,
+         "leave the seams between islands where the transfer and the joins put them (by default a seam moves to "
+         "its shortest course nearby where both islands flatten again)",
+         [](MapArgs& m) { opt(m).uv_solve.straighten_seams = false; }),
       sw("--no-uv-sliver-stacks", kSolve,
          "keep stacks of slivers thinner than the noise in the islands the steps before gave them (by default each "
          "stack is laid out as one grid, its slivers ranked by height)",

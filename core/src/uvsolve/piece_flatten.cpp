@@ -31,6 +31,10 @@ constexpr double kHopelessStretch = 1.3;
 // bit for bit but on the two scans, where a few noisy pieces of thousands
 // fell late (their figures equal; docs/tuning.md, session 36).
 
+// Above this many triangles a flattening costs more per triangle, about as
+// the square root of its size (flatten_cost).
+constexpr double kFlattenCostKnee = 3000;
+
 // The piece's UVs as corners per triangle.
 std::vector<std::array<Vec2, 3>> corners_of(const PieceMesh& m, const std::vector<Vec2>& uv) {
   std::vector<std::array<Vec2, 3>> corners(m.triangles.size());
@@ -263,6 +267,10 @@ Outcome judge_piece(const PieceMesh& m, const std::vector<uint32_t>& tris, std::
   out.corner = m.triangles;
   out.uv = std::move(uv);
   return Outcome::kept;
+}
+
+size_t flatten_cost(size_t size) {
+  return size_t(double(size) * std::max(1.0, std::sqrt(double(size) / kFlattenCostKnee)));
 }
 
 }  // namespace soupuv::uvsolve::detail

@@ -28,6 +28,7 @@
 #pragma once
 
 #include <array>
+#include <cstddef>
 #include <cstdint>
 #include <vector>
 
@@ -75,6 +76,15 @@ Outcome flatten(const PieceMesh& mesh, const std::vector<uint32_t>& tris, double
 // twice (else `overlap`, the piece in `out`); `kept` fills `out`.
 Outcome judge_piece(const PieceMesh& mesh, const std::vector<uint32_t>& tris, std::vector<Vec2> uv, double cell,
                     double max_stretch, Piece& out, double* stretch_floor = nullptr);
+
+// What flattening a piece of `size` triangles costs, in the units the
+// union merge's and the seam straightening's budgets count: its size, times
+// sqrt(size / 3,000) above 3,000 triangles, where the sparse factorisations
+// fill in and a triangle costs more. Counting triangles alone let a
+// few-island map (stanford-bunny, 69k triangles) spend 30 s on 21 unions of
+// 35-70k triangles, four times its trace; measured at 18-32 µs per unit at
+// every size (docs/tuning.md, session 43).
+size_t flatten_cost(size_t size);
 
 // Sander's L2 stretch of triangles' UV corners against their soup
 // triangles' own shapes (rest[k] and corners[k]; invalid rest triangles are

@@ -12,6 +12,7 @@
 #include "uvsolve/reembed.h"
 #include "uvsolve/seam_merge.h"
 #include "uvsolve/seam_smooth.h"
+#include "uvsolve/seam_straighten.h"
 #include "uvsolve/sliver_stack.h"
 #include "uvsolve/union_merge.h"
 #include "uvsolve/untangle.h"
@@ -147,19 +148,34 @@ SoupUvResult solve_soup_uvs(const Soup& soup, const geometry::Weld& weld,
          t3);
   progress.update("uv_solve", kAfterOverlaps);
 
+  if (options.reembed && options.straighten_seams) {
+    auto t_st = Clock::now();
+    const detail::SeamStraightenFigures sf2 =
+        detail::straighten_seams(soup, uv_per_length, pairs, cell, options.reembed_max_stretch,
+                                 options.solve_iterations, options.threads, layout);
+    report("seam_straighten",
+           {{"seams", sf2.seams},
+            {"shorter", sf2.shorter},
+            {"straightened", sf2.straightened},
+            {"pairs_gained", sf2.pairs_gained},
+            {"refused", sf2.refused},
+            {"over_budget", sf2.over_budget}},
+           t_st);
+  }
   // Islands whose shapes flatten together are joined by flattening the union.
   if (options.reembed) {
     auto t_um = Clock::now();
     const detail::UnionMergeFigures uf2 = detail::merge_by_reflattening(
         soup, uv_per_length, pairs, cell, options.reembed_max_stretch,
-        options.solve_iterations, options.merge_attempts_per_island, options.threads, layout,
+        options.solve_iterations, options.merge_attempts_per_island, options.slit_unions, options.threads, layout,
         [&](double share) { progress.update("uv_solve", kAfterOverlaps + share * (kAfterUnions - kAfterOverlaps)); });
     report("union_merge",
            {{"attempts", uf2.attempts},
             {"joined", uf2.joined},
             {"repeated", uf2.repeated},
             {"forecast_refused", uf2.forecast_refused},
-            {"joined_locally", uf2.joined_locally}},
+            {"joined_locally", uf2.joined_locally},
+            {"slit", uf2.slit}},
            t_um);
   }
   progress.update("uv_solve", kAfterUnions);

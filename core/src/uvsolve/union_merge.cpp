@@ -2,9 +2,11 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <array>
 #include <numeric>
 #include <set>
+#include <unordered_map>
 
 #include <omp.h>
 
@@ -17,17 +19,6 @@ namespace {
 // Attempts may flatten this many times the soup's triangles in all,
 // counted by flatten_cost.
 constexpr size_t kFlattenBudget = 8;
-// Above this many triangles a flattening costs more per triangle, about as
-// the square root of its size (the sparse factorisations fill in).
-constexpr double kFlattenCostKnee = 3000;
-
-// What a flattening of `size` triangles takes from the budget: its size,
-// times sqrt(size / kFlattenCostKnee) above the knee. Counting triangles
-// alone let a few-island map (stanford-bunny, 69k triangles) spend 30 s
-// on 21 unions of 35-70k triangles, four times its trace (docs/tuning.md).
-size_t flatten_cost(size_t size) {
-  return size_t(double(size) * std::max(1.0, std::sqrt(double(size) / kFlattenCostKnee)));
-}
 // One flattening may cost at most this many times the soup's triangles
 // (flatten_cost): a soup of up to 18,750 triangles may still be flattened
 // whole, the largest union of a 69k soup is ~45k triangles and of a 124k
@@ -48,6 +39,72 @@ constexpr size_t kLocalJoinRatio = 8;
 // the thread count).
 constexpr size_t kBatch = 64;
 
+// The vertices to leave unjoined so that half of a seam opens: the seam's
+// edges (by the smaller island's vertices) must meet at most two at a
+// vertex; its longest chain is walked from one end (from its first edge's
+// vertex when it is a loop), and the vertices of the walk's first half are
+// returned, the loop's first vertex left joined (a loop opened along a run
+// of its edges; a path from its end, where it meets the union's outline).
+// Empty for a seam with a branch, or too short to open.
+std::vector<uint32_t> half_seam_opening(const std::vector<std::array<uint32_t, 2>>& edges, bool loop_only) {
+  constexpr uint32_t kNone = UINT32_MAX;
+  if (edges.size() < 4) return {};
+  std::unordered_map<uint32_t, std::array<uint32_t, 2>> next;
+  next.reserve(2 * edges.size());
+  for (const auto& e : edges) {
+    if (e[0] == e[1]) return {};
+    for (int s = 0; s < 2; ++s) {
+      auto [it, fresh] = next.try_emplace(e[s], std::array<uint32_t, 2>{kNone, kNone});
+      auto& slot = it->second;
+      if (slot[0] == kNone) slot[0] = e[1 - s];
+      else if (slot[1] == kNone && slot[0] != e[1 - s]) slot[1] = e[1 - s];
+      else return {};  // a third edge, or the same edge twice
+    }
+  }
+  // Chains in a fixed order (the edges' order), each walked from an end if
+  // it has one; the longest kept.
+  std::unordered_map<uint32_t, uint8_t> seen;
+  std::vector<uint32_t> best;
+  bool best_loop = false;
+  for (const auto& e : edges) {
+    if (seen.count(e[0])) continue;
+    // To an end of its chain; a loop starts at e[0].
+    uint32_t previous = kNone, at = e[0];
+    for (size_t steps = 0; steps <= next.size(); ++steps) {
+      const auto& n = next.at(at);
+      if (n[1] == kNone) break;  // an end
+      const uint32_t to = n[0] != previous ? n[0] : n[1];
+      if (to == e[0]) {
+        at = e[0];
+        break;
+      }
+      previous = at, at = to;
+    }
+    std::vector<uint32_t> chain{at};
+    seen[at] = 1;
+    previous = kNone;
+    bool loop = false;
+    while (true) {
+      const auto& n = next.at(chain.back());
+      const uint32_t to = n[0] != previous ? n[0] : n[1];
+      if (to == kNone) break;
+      if (to == chain.front()) {
+        loop = true;
+        break;
+      }
+      previous = chain.back();
+      chain.push_back(to);
+      seen[to] = 1;
+    }
+    if (chain.size() > best.size()) best = std::move(chain), best_loop = loop;
+  }
+  if (loop_only && !best_loop) return {};
+  const size_t edges_in = best_loop ? best.size() : best.size() - 1;
+  if (edges_in < 4) return {};
+  const size_t from = best_loop ? 1 : 0;
+  return std::vector<uint32_t>(best.begin() + long(from), best.begin() + long(edges_in / 2));
+}
+
 // The island x has been joined into (read-only: the parallel attempts
 // must not compress the shared paths).
 uint32_t root_of(const std::vector<uint32_t>& root, uint32_t x) {
@@ -59,7 +116,7 @@ uint32_t root_of(const std::vector<uint32_t>& root, uint32_t x) {
 UnionMergeFigures merge_by_reflattening(const Soup& soup, double uv_per_length,
                                         const std::vector<geometry::AdjacentPair>& pairs, double cell,
                                         double max_stretch, int solve_iterations, size_t attempts_per_island,
-                                        int threads, UvLayout& L,
+                                        bool slit, int threads, UvLayout& L,
                                         const std::function<void(double share)>& on_round) {
   UnionMergeFigures f;
   std::vector<std::vector<uint32_t>> members = island_triangles(L);
@@ -114,6 +171,7 @@ UnionMergeFigures merge_by_reflattening(const Soup& soup, double uv_per_length,
     bool whole_allowed = true;    // the union may be flattened anew (kMaxOneFlatten)
     bool joined_locally = false;  // kept so
     bool flattened_whole = false;  // the union flattened anew
+    bool slit = false;             // and again with half its seam open (a closed union)
   };
   // Refusals by the two islands and their versions (joins so far): a seam
   // between islands already refused as they are now gets the same answer
@@ -206,12 +264,15 @@ UnionMergeFigures merge_by_reflattening(const Soup& soup, double uv_per_length,
       std::vector<uint32_t>& join = vertex_of[size_t(omp_get_thread_num())];
       // Close the seam: the smaller island's shared corners take the larger's vertices.
       std::vector<uint32_t> touched;
+      std::vector<std::array<uint32_t, 2>> seam;  // the seam's edges, by the smaller island's vertices
       for (uint32_t t : members[a.j])
         for (uint32_t e = by_triangle.first[t]; e < by_triangle.first[t + 1]; ++e) {
           const auto& p = pairs[by_triangle.index[e]];
           const bool t_is_a = p.a == t;
           const uint32_t o = t_is_a ? p.b : p.a;
           if (root_of(root, L.island[o]) != a.i) continue;
+          seam.push_back({L.corner_vertex[t][t_is_a ? p.a_corner[0] : p.b_corner[0]],
+                          L.corner_vertex[t][t_is_a ? p.a_corner[1] : p.b_corner[1]]});
           for (int s = 0; s < 2; ++s) {
             const uint32_t mine = L.corner_vertex[t][t_is_a ? p.a_corner[s] : p.b_corner[s]];
             const uint32_t theirs = L.corner_vertex[o][t_is_a ? p.b_corner[s] : p.a_corner[s]];
@@ -230,6 +291,23 @@ UnionMergeFigures merge_by_reflattening(const Soup& soup, double uv_per_length,
         else if (a.whole_allowed) {
           a.outcome = flatten(m, a.tris, cell, max_stretch, solve_iterations, a.piece, &a.stretch_floor);
           a.flattened_whole = true;
+          // Two halves of a closed part, their seam one loop, make a union
+          // that is closed (no flat map) or nearly so (one that stretches
+          // beyond the budget): half their seam is left open, a slit the
+          // union unfolds along.
+          const bool closed = a.outcome == Outcome::topology && m.chart.boundary_loops == 0;
+          const std::vector<uint32_t> opened =
+              !slit ? std::vector<uint32_t>{}
+              : closed ? half_seam_opening(seam, false)
+              : a.outcome == Outcome::stretch || a.outcome == Outcome::flip ? half_seam_opening(seam, true)
+                                                                           : std::vector<uint32_t>{};
+          if (!opened.empty()) {
+            for (uint32_t v : opened) join[v] = v;
+            const PieceMesh slit = piece_mesh(soup, uv_per_length, a.tris, L, &join);
+            a.slit = true;
+            if (slit.components == 1)
+              a.outcome = flatten(slit, a.tris, cell, max_stretch, solve_iterations, a.piece, &a.stretch_floor);
+          }
         }
       }
       a.kept = a.outcome == Outcome::kept;
@@ -238,6 +316,7 @@ UnionMergeFigures merge_by_reflattening(const Soup& soup, double uv_per_length,
     for (Attempt& a : batch) {
       // A local try that failed was followed by the whole flattening.
       if (a.local_first && a.flattened_whole) flattened += flatten_cost(a.tris.size());
+      if (a.slit) flattened += flatten_cost(a.tris.size());
       if (!a.kept) {
         ++attempts[a.i], ++attempts[a.j];  // only refusals count: a join may be followed by more
         refused.insert(refusal_key(a.i, a.j));
@@ -251,6 +330,7 @@ UnionMergeFigures merge_by_reflattening(const Soup& soup, double uv_per_length,
       ++version[a.i];
       ++f.joined;
       f.joined_locally += a.joined_locally;
+      f.slit += a.slit;
       const uint32_t base = uint32_t(L.uv.size());
       L.uv.insert(L.uv.end(), a.piece.uv.begin(), a.piece.uv.end());
       for (size_t k2 = 0; k2 < a.tris.size(); ++k2) {

@@ -21,7 +21,8 @@
 //         triangles counted larger, as its flattening costs more per
 //         triangle; a local join counts as the smaller island's
 //         flattening, and the union's flattening after a failed one is
-//         counted when it is made), and no one flattening costing more
+//         counted when it is made, as is a second one with the seam half
+//         open), and no one flattening costing more
 //         than 2.5 times the soup's size in those units (a union that
 //         would is not tried, nor flattened after a failed local join);
 //         attempts on disjoint islands run on `threads` threads. An
@@ -50,12 +51,13 @@ struct UnionMergeFigures {
   size_t repeated = 0;  // attempts on two islands refused before as they are: not flattened again
   size_t forecast_refused = 0;  // attempts holding a union refused for stretch, forecast to stay above the budget
   size_t joined_locally = 0;    // joins made onto the larger island's map as it stood (local_join.h)
+  size_t slit = 0;              // joins made with half the seam left open (a closed union)
 };
 
 UnionMergeFigures merge_by_reflattening(const Soup& soup, double uv_per_length,
                                         const std::vector<geometry::AdjacentPair>& pairs, double cell,
                                         double max_stretch, int solve_iterations, size_t attempts_per_island,
-                                        int threads, UvLayout& layout,
+                                        bool slit, int threads, UvLayout& layout,
                                         const std::function<void(double share)>& on_round = {});
 
 }  // namespace soupuv::uvsolve::detail

@@ -272,7 +272,7 @@ TEST(SoupUvSolve, TheUnionMergeReportsBetweenItsRoundsAndStopsWhereAReportThrows
   auto layout = [&] { return uvsolve::detail::build_uv_mesh(c.soup, weld, c.uv, chart, 1.0 / 1024, 0.01); };
   std::vector<double> shares;
   uvsolve::detail::UvLayout L = layout();
-  const auto f = uvsolve::detail::merge_by_reflattening(c.soup, 0.01, pairs, 1.0 / 4096, 1.25, 10, 4, 2, L,
+  const auto f = uvsolve::detail::merge_by_reflattening(c.soup, 0.01, pairs, 1.0 / 4096, 1.25, 10, 4, true, 2, L,
                                                         [&](double share) { shares.push_back(share); });
   ASSERT_GT(f.joined, 0u);
   ASSERT_GE(shares.size(), 2u) << "the 36 blocks are joined in one round";
@@ -284,7 +284,7 @@ TEST(SoupUvSolve, TheUnionMergeReportsBetweenItsRoundsAndStopsWhereAReportThrows
   // A report that throws (a canceled job) ends the merge there.
   uvsolve::detail::UvLayout M = layout();
   int rounds = 0;
-  EXPECT_THROW(uvsolve::detail::merge_by_reflattening(c.soup, 0.01, pairs, 1.0 / 4096, 1.25, 10, 4, 2, M,
+  EXPECT_THROW(uvsolve::detail::merge_by_reflattening(c.soup, 0.01, pairs, 1.0 / 4096, 1.25, 10, 4, true, 2, M,
                                                       [&](double) {
                                                         if (++rounds == 2) throw Error(ErrorCode::canceled, "canceled");
                                                       }),

@@ -3,87 +3,79 @@
 // flipped triangle; a sheet large enough that flattening the union would
 // cost more than 2.5 times the soup's size in the budget's units (above the
 // knee a flattening costs more per triangle) is left in two islands,
-// untried.
+// untried; a sphere in two hemispheres, whose union is closed, becomes one
+// island with half the equator left open (and stays in two without the
+// slit).
 #include "uvsolve/union_merge.h"
 
 #include <gtest/gtest.h>
 
-#include "soupuv/geometry/weld.h"
+#include "two_islands.h"
 
 namespace soupuv {
 namespace {
 
-using uvsolve::detail::UvLayout;
+using test::kScale;
+using test::TwoIslands;
 
-constexpr double kScale = 64.0;  // UV units per unit length
-
-struct Halves {
-  Soup soup;
-  UvLayout layout;
-  std::vector<geometry::AdjacentPair> pairs;
-};
-
-// An n x n sheet in z = 0; the cells left of the middle are island 0,
-// laid out isometrically, the others island 1, laid out the same way but
-// moved far to the right (their own layout vertices), so the seam between
-// them is open.
-Halves halves(int n) {
-  Halves h;
-  auto id = [&](int i, int j) { return uint32_t(i * (n + 1) + j); };
-  for (int i = 0; i <= n; ++i)
-    for (int j = 0; j <= n; ++j) h.soup.positions.push_back(Vec3{double(i) / n, double(j) / n, 0});
-  const uint32_t np = uint32_t(h.soup.positions.size());
-  for (int i = 0; i < n; ++i)
-    for (int j = 0; j < n; ++j) {
-      const uint32_t island = 2 * i >= n;
-      const uint32_t p = id(i, j), q = id(i + 1, j), r = id(i + 1, j + 1), w = id(i, j + 1);
-      for (const Tri& t : {Tri{p, q, r}, Tri{p, r, w}}) {
-        h.soup.triangles.push_back(t);
-        h.soup.origins.push_back({});
-        const uint32_t off = island * np;
-        h.layout.corner_vertex.push_back({t[0] + off, t[1] + off, t[2] + off});
-        h.layout.island.push_back(island);
-      }
-    }
-  h.layout.island_count = 2;
-  h.layout.uv.resize(2 * np);
-  for (uint32_t v = 0; v < np; ++v) {
-    const Vec3 x = h.soup.positions[v];
-    h.layout.uv[v] = {kScale * x.x, kScale * x.y};
-    h.layout.uv[np + v] = {1000 + kScale * x.x, kScale * x.y};
-  }
-  geometry::Weld weld;
-  for (const Tri& t : h.soup.triangles)
-    for (uint32_t v : t) weld.corner_vertex.push_back(v);
-  weld.vertex_count = np;
-  h.pairs = geometry::edge_adjacency(weld, h.soup.triangles.size());
-  return h;
+// The n x n sheet's cells left of the middle are island 0, the others 1.
+TwoIslands halves(int n) {
+  return test::two_islands(test::grid_sheet(n), [n](size_t t) { return uint32_t(2 * int(t / 2 / n) >= n); });
 }
 
-uvsolve::detail::UnionMergeFigures merge(Halves& h) {
+uvsolve::detail::UnionMergeFigures merge(TwoIslands& h, bool slit = true) {
   return uvsolve::detail::merge_by_reflattening(h.soup, kScale, h.pairs, /*cell=*/0.5, /*max_stretch=*/1.25,
-                                                /*solve_iterations=*/10, /*attempts_per_island=*/4,
+                                                /*solve_iterations=*/10, /*attempts_per_island=*/4, slit,
                                                 /*threads=*/1, h.layout);
 }
 
 TEST(UnionMerge, TwoHalvesOfASheetBecomeOneIslandWithoutFlips) {
-  Halves h = halves(30);  // 1,800 triangles: below the knee
+  TwoIslands h = halves(30);  // 1,800 triangles: below the knee
   const auto f = merge(h);
   EXPECT_EQ(f.joined, 1u);
   EXPECT_EQ(h.layout.island_count, 1u);
-  for (size_t t = 0; t < h.layout.corner_vertex.size(); ++t) {
-    const auto& c = h.layout.corner_vertex[t];
-    const Vec2 a = h.layout.uv[c[0]], b = h.layout.uv[c[1]], d = h.layout.uv[c[2]];
-    EXPECT_GT(cross(b - a, d - a), 0) << "triangle " << t;
-  }
+  EXPECT_EQ(test::flipped_triangles(h.layout), 0u);
+  EXPECT_DOUBLE_EQ(uvsolve::detail::kept_pair_share(h.pairs, h.layout), 1.0);
 }
 
 TEST(UnionMerge, AUnionCostingSeveralTimesTheSoupIsNotFlattened) {
   // 20,000 triangles: the union is the whole soup, and above the knee its
   // flattening counts 20,000 x sqrt(20,000 / 3,000) = 51,640 > 2.5 x 20,000.
-  Halves h = halves(100);
+  TwoIslands h = halves(100);
   const auto f = merge(h);
   EXPECT_EQ(f.attempts, 0u);
+  EXPECT_EQ(f.joined, 0u);
+  EXPECT_EQ(h.layout.island_count, 2u);
+}
+
+// The hemispheres of a 16 x 32 sphere: 32 pairs along the equator.
+TwoIslands hemispheres() {
+  Soup s = test::uv_sphere(16, 32);
+  std::vector<uint32_t> island(s.triangles.size());
+  for (size_t t = 0; t < s.triangles.size(); ++t) {
+    double z = 0;
+    for (uint32_t v : s.triangles[t]) z += s.positions[v].z;
+    island[t] = z < 0;
+  }
+  return test::two_islands(std::move(s), [island](size_t t) { return island[t]; });
+}
+
+TEST(UnionMerge, TwoHalvesOfAClosedSurfaceBecomeOneIslandOpenAlongHalfTheirSeam) {
+  TwoIslands h = hemispheres();
+  ASSERT_EQ(test::seam_pairs(h.pairs, h.layout), 32u);
+  const size_t pairs = h.pairs.size();
+  const auto f = merge(h);
+  EXPECT_EQ(f.joined, 1u);
+  EXPECT_EQ(h.layout.island_count, 1u);
+  EXPECT_EQ(test::flipped_triangles(h.layout), 0u);
+  // Half the equator's pairs stay cut (the slit), the other half joined.
+  const double kept = uvsolve::detail::kept_pair_share(h.pairs, h.layout);
+  EXPECT_DOUBLE_EQ(kept * double(pairs), double(pairs - 16));
+}
+
+TEST(UnionMerge, AClosedUnionWithoutTheSlitIsRefused) {
+  TwoIslands h = hemispheres();
+  const auto f = merge(h, /*slit=*/false);
   EXPECT_EQ(f.joined, 0u);
   EXPECT_EQ(h.layout.island_count, 2u);
 }

@@ -23,9 +23,12 @@
 //            different surfaces landed on one place, is flattened again from
 //            its own shape (reembed.h); the overlap split (overlap_split.h)
 //            cuts what still laps into pieces that do not.
-//         5. Joins: islands whose union flattens from its own shape without
-//            flips, laps or stretch beyond the budget become one
-//            (union_merge.h, longest shared seams first); then rigid joins
+//         5. Joins: the seam between two islands moves to its shortest
+//            course nearby where both islands flatten again
+//            (seam_straighten.h); islands whose union flattens from its own
+//            shape without flips, laps or stretch beyond the budget become
+//            one (union_merge.h, longest shared seams first; two halves of
+//            a closed part with half their seam left open); then rigid joins
 //            across the remaining seams (seam_merge.h), solved and split
 //            again.
 //         6. Attach (attach_islands.h): islands smaller than their own
@@ -101,6 +104,16 @@ struct SoupUvOptions {
   // refused. Off: the step list without them (for comparison).
   bool reembed = true;
   double reembed_max_stretch = 1.25;
+  // Two islands whose seam is one loop (two halves of a closed part), or
+  // whose union is closed, are tried again with half that seam left open
+  // where their union has no flat map within the budget (union_merge.h).
+  // Off: such unions are refused.
+  bool slit_unions = true;
+  // Seams between two islands moved to the shortest course in a band
+  // around them where both islands flatten again within the stretch budget
+  // (seam_straighten.h; needs reembed). Off: seams stay where the transfer
+  // and the splits left them.
+  bool straighten_seams = true;
   // Islands whose padding would take more texels than they do are attached
   // rigidly to a neighbouring island where that folds and stretches
   // nothing and laps it by at most attach_max_lap_texels (attach_islands.h;
