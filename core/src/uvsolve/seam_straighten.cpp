@@ -201,23 +201,10 @@ SeamStraightenFigures straighten_seams(const Soup& soup, double uv_per_length,
   const size_t n = L.corner_vertex.size();
   std::vector<std::vector<uint32_t>> members = island_triangles(L);
   const PairsByTriangle by(pairs, n);
-  // Seams between islands, longest first.
-  std::vector<std::pair<uint64_t, size_t>> seams;
-  {
-    std::vector<uint64_t> keys;
-    for (const auto& p : pairs) {
-      const uint32_t i = L.island[p.a], j = L.island[p.b];
-      if (i != j) keys.push_back((uint64_t(std::min(i, j)) << 32) | std::max(i, j));
-    }
-    std::sort(keys.begin(), keys.end());
-    for (size_t k = 0; k < keys.size();) {
-      size_t e = k;
-      while (e < keys.size() && keys[e] == keys[k]) ++e;
-      if (e - k >= kMinSeam) seams.push_back({keys[k], e - k});
-      k = e;
-    }
-    std::stable_sort(seams.begin(), seams.end(), [](const auto& x, const auto& y) { return x.second > y.second; });
-  }
+  // Seams between islands of at least kMinSeam pairs, longest first.
+  std::vector<std::pair<uint64_t, uint32_t>> seams = seams_longest_first(pairs, L);
+  seams.erase(std::remove_if(seams.begin(), seams.end(), [](const auto& x) { return x.second < kMinSeam; }),
+              seams.end());
   f.seams = seams.size();
   const size_t budget = kStraightenBudget * n;
   size_t spent = 0;
@@ -226,7 +213,7 @@ SeamStraightenFigures straighten_seams(const Soup& soup, double uv_per_length,
   std::vector<std::vector<uint8_t>> in_side(size_t(team), std::vector<uint8_t>(n, 0));
   std::vector<std::vector<uint32_t>> join(static_cast<size_t>(team));
   std::vector<uint8_t> busy(L.island_count, 0);
-  std::vector<std::pair<uint64_t, size_t>> pending = std::move(seams), later;
+  std::vector<std::pair<uint64_t, uint32_t>> pending = std::move(seams), later;
   std::vector<Attempt> batch;
   bool changed = false;
   // Rounds: seams whose islands no earlier seam of the round touches are

@@ -123,22 +123,7 @@ UnionMergeFigures merge_by_reflattening(const Soup& soup, double uv_per_length,
   const size_t n = L.corner_vertex.size();
   const PairsByTriangle by_triangle(pairs, n);
   // Seams between islands, longest (most shared pairs) first.
-  std::vector<std::pair<uint64_t, uint32_t>> seams;
-  {
-    std::vector<uint64_t> keys;
-    for (const auto& p : pairs) {
-      const uint32_t i = L.island[p.a], j = L.island[p.b];
-      if (i != j) keys.push_back((uint64_t(std::min(i, j)) << 32) | std::max(i, j));
-    }
-    std::sort(keys.begin(), keys.end());
-    for (size_t k = 0; k < keys.size();) {
-      size_t e = k;
-      while (e < keys.size() && keys[e] == keys[k]) ++e;
-      seams.push_back({keys[k], uint32_t(e - k)});
-      k = e;
-    }
-    std::stable_sort(seams.begin(), seams.end(), [](const auto& x, const auto& y) { return x.second > y.second; });
-  }
+  std::vector<std::pair<uint64_t, uint32_t>> seams = seams_longest_first(pairs, L);
   std::vector<uint32_t> root(L.island_count);
   std::iota(root.begin(), root.end(), 0u);
   auto find = [&](uint32_t x) {

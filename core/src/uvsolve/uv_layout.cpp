@@ -87,4 +87,23 @@ std::vector<std::vector<uint32_t>> island_triangles(const UvLayout& layout) {
   return out;
 }
 
+std::vector<std::pair<uint64_t, uint32_t>> seams_longest_first(const std::vector<geometry::AdjacentPair>& pairs,
+                                                               const UvLayout& layout) {
+  std::vector<uint64_t> keys;
+  for (const auto& p : pairs) {
+    const uint32_t i = layout.island[p.a], j = layout.island[p.b];
+    if (i != j) keys.push_back((uint64_t(std::min(i, j)) << 32) | std::max(i, j));
+  }
+  std::sort(keys.begin(), keys.end());
+  std::vector<std::pair<uint64_t, uint32_t>> seams;
+  for (size_t k = 0; k < keys.size();) {
+    size_t e = k;
+    while (e < keys.size() && keys[e] == keys[k]) ++e;
+    seams.push_back({keys[k], uint32_t(e - k)});
+    k = e;
+  }
+  std::stable_sort(seams.begin(), seams.end(), [](const auto& x, const auto& y) { return x.second > y.second; });
+  return seams;
+}
+
 }  // namespace soupuv::uvsolve::detail

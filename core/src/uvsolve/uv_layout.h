@@ -7,6 +7,7 @@
 
 #include <array>
 #include <cstdint>
+#include <utility>
 #include <vector>
 
 #include "soupuv/geometry/weld.h"
@@ -50,5 +51,11 @@ double kept_pair_share(const std::vector<geometry::AdjacentPair>& pairs, const U
 
 // The triangles of each island, in soup order.
 std::vector<std::vector<uint32_t>> island_triangles(const UvLayout& layout);
+
+// The seams between islands: for each two islands that share welded pairs,
+// the key (smaller id << 32 | larger id) and the pair count, the longest
+// seam first (equal ones by key).
+std::vector<std::pair<uint64_t, uint32_t>> seams_longest_first(const std::vector<geometry::AdjacentPair>& pairs,
+                                                               const UvLayout& layout);
 
 }  // namespace soupuv::uvsolve::detail
