@@ -269,6 +269,19 @@ Outcome judge_piece(const PieceMesh& m, const std::vector<uint32_t>& tris, std::
   return Outcome::kept;
 }
 
+void join_across(const geometry::AdjacentPair& p, uint32_t t, const UvLayout& L, std::vector<uint32_t>& vertex_of,
+                 std::vector<uint32_t>& touched) {
+  const bool t_is_a = p.a == t;
+  const uint32_t o = t_is_a ? p.b : p.a;
+  for (int s = 0; s < 2; ++s) {
+    const uint32_t mine = L.corner_vertex[t][t_is_a ? p.a_corner[s] : p.b_corner[s]];
+    const uint32_t theirs = L.corner_vertex[o][t_is_a ? p.b_corner[s] : p.a_corner[s]];
+    if (vertex_of[mine] != mine) continue;  // joined already
+    vertex_of[mine] = theirs;
+    touched.push_back(mine);
+  }
+}
+
 size_t flatten_cost(size_t size) {
   return size_t(double(size) * std::max(1.0, std::sqrt(double(size) / kFlattenCostKnee)));
 }

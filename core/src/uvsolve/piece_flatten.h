@@ -33,6 +33,7 @@
 #include <vector>
 
 #include "atlas/chart_mesh.h"
+#include "soupuv/geometry/weld.h"
 #include "soupuv/soup.h"
 #include "transfer/sym_dirichlet.h"
 #include "uvsolve/uv_layout.h"
@@ -61,6 +62,11 @@ struct PieceMesh {
 PieceMesh piece_mesh(const Soup& soup, double uv_per_length, const std::vector<uint32_t>& tris, const UvLayout& L,
                      const std::vector<uint32_t>* vertex_of = nullptr);
 
+// Joins triangle t's two corners on welded pair p to the other triangle's
+// for piece_mesh's vertex_of: each of t's layout vertices there not joined
+// yet maps to the other's, and is appended to `touched` (to be reset).
+void join_across(const geometry::AdjacentPair& p, uint32_t t, const UvLayout& L, std::vector<uint32_t>& vertex_of,
+                 std::vector<uint32_t>& touched);
 // Genus 0 with at least one boundary loop: LSCM can flatten it.
 bool flattenable(const atlas::ChartMesh& chart);
 

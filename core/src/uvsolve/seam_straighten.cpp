@@ -170,16 +170,8 @@ bool rejoin_side(const Soup& soup, double uv_per_length, const std::vector<geome
     const uint32_t t = tris[k];
     for (uint32_t e = by.first[t]; e < by.first[t + 1]; ++e) {
       const auto& p = pairs[by.index[e]];
-      const bool t_is_a = p.a == t;
-      const uint32_t o = t_is_a ? p.b : p.a;
-      if (!in_side[o] || L.island[o] != stayed) continue;
-      for (int s = 0; s < 2; ++s) {
-        const uint32_t mine = L.corner_vertex[t][t_is_a ? p.a_corner[s] : p.b_corner[s]];
-        const uint32_t theirs = L.corner_vertex[o][t_is_a ? p.b_corner[s] : p.a_corner[s]];
-        if (join[mine] != mine) continue;  // joined already
-        join[mine] = theirs;
-        touched.push_back(mine);
-      }
+      const uint32_t o = p.a == t ? p.b : p.a;
+      if (in_side[o] && L.island[o] == stayed) join_across(p, t, L, join, touched);
     }
   }
   const PieceMesh m = piece_mesh(soup, uv_per_length, tris, L, &join);

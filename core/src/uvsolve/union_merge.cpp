@@ -258,13 +258,7 @@ UnionMergeFigures merge_by_reflattening(const Soup& soup, double uv_per_length,
           if (root_of(root, L.island[o]) != a.i) continue;
           seam.push_back({L.corner_vertex[t][t_is_a ? p.a_corner[0] : p.b_corner[0]],
                           L.corner_vertex[t][t_is_a ? p.a_corner[1] : p.b_corner[1]]});
-          for (int s = 0; s < 2; ++s) {
-            const uint32_t mine = L.corner_vertex[t][t_is_a ? p.a_corner[s] : p.b_corner[s]];
-            const uint32_t theirs = L.corner_vertex[o][t_is_a ? p.b_corner[s] : p.a_corner[s]];
-            if (join[mine] != mine) continue;  // joined already
-            join[mine] = theirs;
-            touched.push_back(mine);
-          }
+          join_across(p, t, L, join, touched);
         }
       a.tris = members[a.i];
       a.tris.insert(a.tris.end(), members[a.j].begin(), members[a.j].end());
