@@ -150,19 +150,21 @@ bool divide(const std::vector<geometry::AdjacentPair>& pairs, const PairsByTrian
 }
 
 // One island of the new division, its triangles that stayed first: those
-// that came from the other island take the vertices of their welded neighbours that
-// stayed, and are joined onto the island's map as it stands (local_join.h);
-// where that is refused and `whole_allowed`, the island is flattened anew
-// from its own shape (piece_flatten.h; its cost added to `flattened`).
-// `moved` receives whether any came; an island that only gave triangles
-// away keeps its map (it needs no piece) if it stays one piece.
+// that came from the other island take the vertices of their welded
+// neighbours that stayed, and are joined onto the island's map as it
+// stands (local_join.h); where that is refused and `whole_allowed`, the
+// island is flattened anew from its own shape (piece_flatten.h; its cost
+// added to `flattened`). `moved` receives whether any came; an island that
+// only gave triangles away keeps its map (it needs no piece) if it stays
+// one piece.
 bool rejoin_side(const Soup& soup, double uv_per_length, const std::vector<geometry::AdjacentPair>& pairs,
                  const PairsByTriangle& by, const UvLayout& L, std::vector<uint32_t>& tris, uint32_t stayed,
                  std::vector<uint8_t>& in_side, std::vector<uint32_t>& join, double cell,
                  double max_stretch, int solve_iterations, bool whole_allowed, Piece& piece, bool& moved,
                  size_t& flattened) {
-  std::stable_partition(tris.begin(), tris.end(), [&](uint32_t t) { return L.island[t] == stayed; });
-  const size_t staying = size_t(std::count_if(tris.begin(), tris.end(), [&](uint32_t t) { return L.island[t] == stayed; }));
+  const size_t staying = size_t(
+      std::stable_partition(tris.begin(), tris.end(), [&](uint32_t t) { return L.island[t] == stayed; }) -
+      tris.begin());
   moved = staying < tris.size();
   for (uint32_t t : tris) in_side[t] = 1;
   std::vector<uint32_t> touched;
