@@ -188,9 +188,15 @@ std::vector<HalvingRound> halve_to_pack(const std::vector<geometry::AdjacentPair
            (round < options.rounds || (round < options.rounds_below_target && packed.utilisation < utilisation_target));
   };
   for (int round = 0; more(round); ++round) {
-    // Below both targets, the utilisation's may cost a little continuity.
+    // Below both targets, the utilisation's may cost a little continuity:
+    // max_cut_below_target of the pairs, in whole pairs rounded up (a soup
+    // of a few dozen pairs could otherwise never cut one: BoxesMeta's soup
+    // at seed 59, a cube unfolded as a bent strip, packed at 0.43; half a
+    // pair more absorbs the shares' rounding).
+    const double pair_count = double(std::max<size_t>(1, pairs.size()));
+    const double allowance = (std::ceil(options.max_cut_below_target * pair_count) + 0.5) / pair_count;
     const double min_kept = kept_before < options.min_kept_pairs && packed.utilisation < utilisation_target
-                                ? kept_before - options.max_cut_below_target
+                                ? kept_before - allowance
                                 : options.min_kept_pairs;
     const auto islands = island_triangles(trial);
     std::vector<double> area(islands.size(), 0);

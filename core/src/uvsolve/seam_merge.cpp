@@ -6,15 +6,34 @@
 
 #include "soupuv/union_find.h"
 #include "uvsolve/overlap_split.h"
+#include "uvsolve/island_grid.h"
+#include "uvsolve/piece_flatten.h"
 #include "uvsolve/pairs_by_triangle.h"
 #include "uvsolve/rigid_fit.h"
 #include "uvsolve/untangle.h"
 
 namespace soupuv::uvsolve::detail {
 
+namespace {
+// The L2 stretch of the triangles `tris` as the layout maps them, against
+// their soup shapes (piece_flatten.h's measure, the flattenings' budget).
+double island_stretch(const Soup& soup, double uv_per_length, const std::vector<uint32_t>& tris, const UvLayout& L) {
+  std::vector<transfer::detail::RestTriangle> rest;
+  std::vector<std::array<Vec2, 3>> corners;
+  rest.reserve(tris.size());
+  corners.reserve(tris.size());
+  for (uint32_t t : tris) {
+    rest.push_back(
+        transfer::detail::rest_triangle(soup.corner(t, 0), soup.corner(t, 1), soup.corner(t, 2), uv_per_length, 1.0));
+    corners.push_back(corners_of(L, t));
+  }
+  return rest_stretch_l2(rest, corners);
+}
+}  // namespace
+
 SeamMergeFigures merge_seams(const Soup& soup, const std::vector<geometry::AdjacentPair>& pairs,
-                             double cell, double uv_per_length, double collapse_ratio, size_t max_attempts,
-                             size_t max_relax_triangles, UvLayout& L) {
+                             double cell, double uv_per_length, double collapse_ratio, double max_stretch,
+                             size_t max_attempts, size_t max_relax_triangles, UvLayout& L) {
   SeamMergeFigures f;
   auto islands = island_triangles(L);
   // Seams: welded pairs whose triangles lie in different islands, counted
@@ -71,6 +90,9 @@ SeamMergeFigures merge_seams(const Soup& soup, const std::vector<geometry::Adjac
       if (ambiguous || match.size() < 3) continue;
     }
     ++f.attempts;
+    std::vector<uint32_t> joined = islands[A];
+    joined.insert(joined.end(), islands[B].begin(), islands[B].end());
+    const double stretch_before = island_stretch(soup, uv_per_length, joined, L);
     // The rotation and shift of B's matched corners onto A's.
     std::vector<std::pair<Vec2, Vec2>> b_to_a;
     for (const auto& [va, vb] : match) b_to_a.push_back({L.uv[vb], L.uv[va]});
@@ -98,8 +120,6 @@ SeamMergeFigures merge_seams(const Soup& soup, const std::vector<geometry::Adjac
         if (it != to_a.end()) v = it->second;
       }
     }
-    std::vector<uint32_t> joined = islands[A];
-    joined.insert(joined.end(), islands[B].begin(), islands[B].end());
     auto folded = [&] {
       for (uint32_t t : joined)
         if (is_folded(soup, uv_per_length, collapse_ratio, L, t)) return true;
@@ -141,12 +161,19 @@ SeamMergeFigures merge_seams(const Soup& soup, const std::vector<geometry::Adjac
       }
       overlaps = overlap_samples(L, near, cell) > 0;
     }
-    if (folds || overlaps) {
+    // The joined island's stretch within the flattenings' budget, or no
+    // worse than the two islands' own: the mean corners can pull a seam
+    // that closes a box's faces far out of shape, and the solve after the
+    // merge only evens it out (BoxesMeta's soup at seed 41: a cube of 9 + 3
+    // triangles joined at L2 2.6, solved to 1.37; docs/tuning.md, session 45).
+    const bool stretches =
+        !folds && !overlaps && island_stretch(soup, uv_per_length, joined, L) > std::max(max_stretch, stretch_before);
+    if (folds || overlaps || stretches) {
       for (auto it = saved_all.rbegin(); it != saved_all.rend(); ++it) L.uv[it->first] = it->second;
       for (size_t i = 0; i < b_vertices.size(); ++i) L.uv[b_vertices[i]] = saved_uv[i];
       for (const auto& [va, p] : saved_a) L.uv[va] = p;
       for (size_t i = 0; i < islands[B].size(); ++i) L.corner_vertex[islands[B][i]] = saved_b_tris[i];
-      folds ? ++f.refused_fold : ++f.refused_overlap;
+      folds ? ++f.refused_fold : overlaps ? ++f.refused_overlap : ++f.refused_stretch;
       continue;
     }
     ++f.joined;

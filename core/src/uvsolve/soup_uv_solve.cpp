@@ -184,13 +184,14 @@ SoupUvResult solve_soup_uvs(const Soup& soup, const geometry::Weld& weld,
   // are joined, then the joined islands solved and checked again.
   auto t_merge = Clock::now();
   const detail::SeamMergeFigures mf = detail::merge_seams(
-      soup, pairs, cell, uv_per_length, options.collapse_ratio,
+      soup, pairs, cell, uv_per_length, options.collapse_ratio, options.reembed_max_stretch,
       options.merge_attempts_per_island * size_t(layout.island_count), options.merge_relax_max_triangles,
       layout);
   nlohmann::json merge = {{"attempts", mf.attempts},
                           {"joined", mf.joined},
                           {"refused_fold", mf.refused_fold},
                           {"refused_overlap", mf.refused_overlap},
+                          {"refused_stretch", mf.refused_stretch},
                           {"islands", layout.island_count},
                           {"kept_pairs", detail::kept_pair_share(pairs, layout)}};
   if (mf.joined > 0) {

@@ -411,6 +411,28 @@ TEST(SoupUvSolve, AMapBelowTheContinuityTargetIsHalvedWithinItsAllowance) {
   EXPECT_EQ(whole.diagnostics["pack"]["islands"].get<int>(), 2) << whole.diagnostics["pack"].dump();
 }
 
+TEST(SoupUvSolve, ASmallMapBelowBothTargetsMayCutOneWholePair) {
+  // A strip of 12 x 1 cells (35 welded pairs) packs at about 1/12 of the
+  // square. Below a continuity target no map reaches, its allowance of 1 %
+  // of the pairs is a third of a pair: counted in whole pairs, rounded up,
+  // it is one, so the strip is halved once (two halves pack denser).
+  Case c;
+  add_grid(c, 12, 1, [](double u, double v) { return Vec3{u, v, 0}; },
+           [](double u, double v) { return Vec2{0.01 * u, 0.01 * v}; });
+  uvsolve::SoupUvOptions o;
+  o.halving.min_kept_pairs = 1.01;
+  o.halving.max_cut_below_target = 0.01;
+  const Solved halved = solve(c, 0.01, o);
+  expect_sound(c, halved.uv);
+  EXPECT_EQ(halved.diagnostics["pack"]["islands"].get<int>(), 2) << halved.diagnostics["pack"].dump();
+  size_t kept = 0;
+  for (const auto& p : halved.pairs) kept += continuous(halved.uv, p);
+  EXPECT_EQ(kept + 1, halved.pairs.size()) << "one pair cut";
+  o.halving.max_cut_below_target = 0;
+  const Solved whole = solve(c, 0.01, o);
+  EXPECT_EQ(whole.diagnostics["pack"]["islands"].get<int>(), 1) << whole.diagnostics["pack"].dump();
+}
+
 double point_segment_distance(Vec2 p, Vec2 a, Vec2 b) {
   const Vec2 ab = b - a;
   const double len2 = dot(ab, ab);

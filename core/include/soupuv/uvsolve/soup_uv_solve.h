@@ -68,8 +68,8 @@ namespace soupuv::uvsolve {
 // product's continuity target: halving never trades it away). A map that
 // keeps fewer pairs than that before halving and packs below
 // SoupUvOptions::utilisation_target may cut at most max_cut_below_target
-// of them more (its continuity misses the target either way; its
-// utilisation need not). The bar and the island count are the atlas's for
+// of them more, counted in whole pairs rounded up (its continuity misses
+// the target either way; its utilisation need not). The bar and the island count are the atlas's for
 // its charts (atlas/build_atlas.h).
 struct HalvingOptions {
   uint32_t max_islands = 64;
