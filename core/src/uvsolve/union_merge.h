@@ -11,7 +11,10 @@
 //         an eighth of the other's size is first joined onto the larger
 //         one's map as it stands (local_join.h). When that is kept
 //         (no flip, within the stretch budget, no lap) the two become one
-//         island with the new UVs.
+//         island with the new UVs. With `slit`, a union refused as closed,
+//         or refused for stretch or a fold while its seam is one loop or its
+//         outline is shorter than a hemisphere's of its area, is flattened
+//         once more with half its seam's longest chain left open.
 // Why   : the rigid join (seam_merge.h) can only close a seam where the two
 //         islands' existing maps already fit; most seams the transfer, the
 //         folds and the overlaps cut lie between islands whose shapes would

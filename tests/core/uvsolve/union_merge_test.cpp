@@ -80,5 +80,44 @@ TEST(UnionMerge, AClosedUnionWithoutTheSlitIsRefused) {
   EXPECT_EQ(h.layout.island_count, 2u);
 }
 
+// The hemispheres with the two southern triangles below one equator edge
+// left out: their union is a disk (a sphere with a small hole), and their
+// seam a path of 31 pairs, not a loop.
+TwoIslands hemispheres_with_a_hole() {
+  Soup s = test::uv_sphere(16, 32);
+  Soup kept;
+  kept.positions = s.positions;
+  std::vector<uint32_t> island;
+  for (const Tri& t : s.triangles) {
+    double z = 0;
+    bool below_first_edge = true;
+    for (uint32_t v : t) {
+      const Vec3 p = s.positions[v];
+      z += p.z;
+      // Segments 0 and 1 of the equator and the ring below it.
+      below_first_edge = below_first_edge && p.z <= 1e-9 && p.x > 0.95 && p.y >= -1e-9;
+    }
+    if (below_first_edge) continue;
+    kept.triangles.push_back(t);
+    island.push_back(z < 0);
+  }
+  kept.origins.resize(kept.triangles.size());
+  return test::two_islands(std::move(kept), [island](size_t t) { return island[t]; });
+}
+
+TEST(UnionMerge, TwoHalvesOfANearlyClosedSurfaceAreJoinedWithPartOfTheirSeamOpen) {
+  TwoIslands h = hemispheres_with_a_hole();
+  ASSERT_EQ(h.soup.triangles.size(), test::uv_sphere(16, 32).triangles.size() - 2);
+  ASSERT_EQ(test::seam_pairs(h.pairs, h.layout), 31u);
+  const size_t pairs = h.pairs.size();
+  const auto f = merge(h);
+  EXPECT_EQ(f.joined, 1u);
+  EXPECT_EQ(f.slit, 1u);
+  EXPECT_EQ(h.layout.island_count, 1u);
+  EXPECT_EQ(test::flipped_triangles(h.layout), 0u);
+  const double kept = uvsolve::detail::kept_pair_share(h.pairs, h.layout);
+  EXPECT_GT(kept * double(pairs), double(pairs - 31)) << "more of the seam joined than before";
+}
+
 }  // namespace
 }  // namespace soupuv
