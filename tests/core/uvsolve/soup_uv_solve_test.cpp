@@ -393,44 +393,47 @@ TEST(SoupUvSolve, AMapStillBelowTheUtilisationTargetIsPackedAgainThoroughly) {
             pack["thorough"]["utilisation"].get<double>() > plain.diagnostics["pack"]["utilisation"].get<double>());
 }
 
-TEST(SoupUvSolve, AMapBelowTheContinuityTargetIsHalvedWithinItsAllowance) {
-  // A continuity target no map reaches (every map is below it): halving
-  // may cut at most halving.max_cut_below_target of the pairs more.
-  const Case discs = two_discs();
+// Solved with a continuity target no map reaches (every map is below it)
+// and halving allowed to cut `allowance` of the pairs more; checked sound.
+Solved solved_below_continuity_target(const Case& c, double allowance) {
   uvsolve::SoupUvOptions o;
   o.halving.min_kept_pairs = 1.01;
-  o.halving.max_cut_below_target = 0.05;
-  const Solved halved = solve(discs, 0.01, o);
-  expect_sound(discs, halved.uv);
-  EXPECT_GT(halved.diagnostics["pack"]["islands"].get<int>(), 2) << halved.diagnostics["pack"].dump();
+  o.halving.max_cut_below_target = allowance;
+  Solved s = solve(c, 0.01, o);
+  expect_sound(c, s.uv);
+  return s;
+}
+
+size_t continuous_pairs(const Solved& s) {
   size_t kept = 0;
-  for (const auto& p : halved.pairs) kept += continuous(halved.uv, p);
-  EXPECT_GE(double(kept) / double(halved.pairs.size()), 1.0 - 0.05);
-  o.halving.max_cut_below_target = 0;
-  const Solved whole = solve(discs, 0.01, o);
-  EXPECT_EQ(whole.diagnostics["pack"]["islands"].get<int>(), 2) << whole.diagnostics["pack"].dump();
+  for (const auto& p : s.pairs) kept += continuous(s.uv, p);
+  return kept;
+}
+
+int packed_islands(const Solved& s) { return s.diagnostics["pack"]["islands"].get<int>(); }
+
+TEST(SoupUvSolve, AMapBelowTheContinuityTargetIsHalvedWithinItsAllowance) {
+  const Case discs = two_discs();
+  const Solved halved = solved_below_continuity_target(discs, 0.05);
+  EXPECT_GT(packed_islands(halved), 2) << halved.diagnostics["pack"].dump();
+  EXPECT_GE(double(continuous_pairs(halved)) / double(halved.pairs.size()), 1.0 - 0.05);
+  const Solved whole = solved_below_continuity_target(discs, 0);
+  EXPECT_EQ(packed_islands(whole), 2) << whole.diagnostics["pack"].dump();
 }
 
 TEST(SoupUvSolve, ASmallMapBelowBothTargetsMayCutOneWholePair) {
   // A strip of 12 x 1 cells (35 welded pairs) packs at about 1/12 of the
-  // square. Below a continuity target no map reaches, its allowance of 1 %
-  // of the pairs is a third of a pair: counted in whole pairs, rounded up,
-  // it is one, so the strip is halved once (two halves pack denser).
+  // square. Its allowance of 1 % of the pairs is a third of a pair: counted
+  // in whole pairs, rounded up, it is one, so the strip is halved once (two
+  // halves pack denser).
   Case c;
   add_grid(c, 12, 1, [](double u, double v) { return Vec3{u, v, 0}; },
            [](double u, double v) { return Vec2{0.01 * u, 0.01 * v}; });
-  uvsolve::SoupUvOptions o;
-  o.halving.min_kept_pairs = 1.01;
-  o.halving.max_cut_below_target = 0.01;
-  const Solved halved = solve(c, 0.01, o);
-  expect_sound(c, halved.uv);
-  EXPECT_EQ(halved.diagnostics["pack"]["islands"].get<int>(), 2) << halved.diagnostics["pack"].dump();
-  size_t kept = 0;
-  for (const auto& p : halved.pairs) kept += continuous(halved.uv, p);
-  EXPECT_EQ(kept + 1, halved.pairs.size()) << "one pair cut";
-  o.halving.max_cut_below_target = 0;
-  const Solved whole = solve(c, 0.01, o);
-  EXPECT_EQ(whole.diagnostics["pack"]["islands"].get<int>(), 1) << whole.diagnostics["pack"].dump();
+  const Solved halved = solved_below_continuity_target(c, 0.01);
+  EXPECT_EQ(packed_islands(halved), 2) << halved.diagnostics["pack"].dump();
+  EXPECT_EQ(continuous_pairs(halved) + 1, halved.pairs.size()) << "one pair cut";
+  const Solved whole = solved_below_continuity_target(c, 0);
+  EXPECT_EQ(packed_islands(whole), 1) << whole.diagnostics["pack"].dump();
 }
 
 double point_segment_distance(Vec2 p, Vec2 a, Vec2 b) {
